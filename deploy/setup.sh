@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Installs hcosim's Debian build and runtime dependencies, only what is missing.
+# Idempotent: a second run with everything present only queries dpkg (well under a second).
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build ccache pkg-config
+  libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
+  libeigen3-dev libopencv-dev libopencv-contrib-dev libapriltag-dev
+  libmujoco-dev libyaml-cpp-dev googletest libgtest-dev libbenchmark-dev
+  cyclonedds-dev cyclonedds-tools
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+echo "hcosim setup: installing ${#missing[@]} missing package(s): ${missing[*]}"
+sudo=()
+[ "$(id -u)" -ne 0 ] && sudo=(sudo)
+export DEBIAN_FRONTEND=noninteractive
+"${sudo[@]}" apt-get update -qq
+"${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "hcosim setup: done"

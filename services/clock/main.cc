@@ -1,0 +1,91 @@
+// hcosim_clock: the lockstep master. Publishes ClockTick for each base step
+// and waits for every follower's StepDone before the next, so all services
+// advance together whatever their speed. Protocol: docs/cosimulation.md.
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <set>
+#include <thread>
+
+#include "service.h"
+
+using namespace hcosim;
+using namespace hcosim::rt;
+
+namespace {
+
+constexpr double kJoinTimeoutS = 30.0;
+constexpr double kStepTimeoutS = 10.0;
+
+std::string names(const std::set<std::string>& s) {
+  std::string out;
+  for (const auto& n : s) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+int run_clock(Options options) {
+  std::set<std::string> followers;
+  if (!options.deployment.empty())
+    for (const auto& s : load_deployment(options.deployment).services) followers.insert(s.name);
+  options.mode = Mode::kLockstep;
+  Service svc(options);
+  Writer<ClockTick> ticks(svc.participant());
+  Reader<StepDone> done = svc.reader<StepDone>();
+  const std::size_t n = followers.size();
+
+  // Start only when every follower can hear tick 0 and answer it.
+  const std::int64_t join_deadline = mono_ns() + std::int64_t(kJoinTimeoutS * 1e9);
+  while (ticks.matched() < int(n) || done.matched() < int(n)) {
+    if (stop_requested()) return 0;
+    if (mono_ns() > join_deadline) {
+      std::cerr << "clock: after " << kJoinTimeoutS << " s only " << done.matched() << " of " << n
+                << " followers joined (" << names(followers) << ")\n";
+      return 1;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+
+  const std::int64_t step_ns = std::llround(options.step_s * 1e9);
+  const std::uint64_t last = options.duration_s > 0 ? std::uint64_t(std::llround(options.duration_s / options.step_s)) - 1
+                                                    : UINT64_MAX;
+  const std::int64_t wall_start = mono_ns();
+  std::uint64_t k = 0;
+  for (;; ++k) {
+    const bool is_last = k == last || stop_requested();
+    const std::int64_t t0 = mono_ns();
+    ClockTick tick;
+    tick.step(k);
+    tick.sim_time_ns(std::int64_t(k) * step_ns);
+    tick.step_ns(step_ns);
+    tick.last(is_last);
+    ticks.write(tick);
+
+    std::set<std::string> waiting = followers;
+    const std::int64_t deadline = mono_ns() + std::int64_t(kStepTimeoutS * 1e9);
+    while (!waiting.empty()) {
+      if (mono_ns() > deadline) {
+        std::cerr << "clock: step " << k << ": no StepDone from " << names(waiting) << " after " << kStepTimeoutS
+                  << " s\n";
+        return 1;
+      }
+      if (done.wait(std::chrono::milliseconds(100)))
+        done.take([&](const StepDone& d) {
+          if (d.step() == k) waiting.erase(d.service().to_string());
+        });
+    }
+    svc.record_step(0.0, (mono_ns() - t0) * 1e-3, false);
+    svc.heartbeat(tick.sim_time_ns(), k);
+    if (is_last) break;
+  }
+  const double wall_s = (mono_ns() - wall_start) * 1e-9;
+  const double sim_s = double(k + 1) * options.step_s;
+  std::printf("clock: %llu steps, %.3f s simulated in %.3f s wall (real-time factor %.2f), %zu followers\n",
+              static_cast<unsigned long long>(k + 1), sim_s, wall_s, sim_s / wall_s, n);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return guarded_main("hcosim_clock", [&] { return run_clock(parse_options(argc, argv)); });
+}

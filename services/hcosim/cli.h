@@ -1,0 +1,36 @@
+// Subcommands of the hcosim command-line tool.
+#pragma once
+
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace hcosim::cli {
+
+// Parsed arguments of one subcommand: positionals, --flag VALUE, --switch.
+struct Args {
+  std::vector<std::string> positional;
+  std::map<std::string, std::string> flags;
+  std::set<std::string> switches;
+
+  bool has(const std::string& f) const { return flags.count(f) || switches.count(f); }
+  std::string get(const std::string& f, const std::string& fallback) const;
+  double number(const std::string& f, double fallback) const;  // throws std::invalid_argument
+};
+
+// Throws std::invalid_argument naming an unknown option or a missing value.
+Args parse(const std::vector<std::string>& argv, const std::set<std::string>& flags,
+           const std::set<std::string>& switches);
+
+// Domain from --domain, else $HCOSIM_DOMAIN, else 0.
+int domain_of(const Args& a);
+
+int up(const std::vector<std::string>& argv);
+int topics(const std::vector<std::string>& argv);
+int echo(const std::vector<std::string>& argv);
+int hz(const std::vector<std::string>& argv);
+int bench(const std::vector<std::string>& argv);
+int bench_peer(const std::vector<std::string>& argv);  // hidden: the far end of dds round trips
+
+}  // namespace hcosim::cli

@@ -1,0 +1,97 @@
+// hcosim: one entry point for running, inspecting and measuring deployments.
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <iostream>
+#include <stdexcept>
+
+#include "cli.h"
+#include "service.h"
+
+namespace hcosim::cli {
+
+std::string Args::get(const std::string& f, const std::string& fallback) const {
+  auto it = flags.find(f);
+  return it == flags.end() ? fallback : it->second;
+}
+
+double Args::number(const std::string& f, double fallback) const {
+  auto it = flags.find(f);
+  if (it == flags.end()) return fallback;
+  char* end = nullptr;
+  const double v = std::strtod(it->second.c_str(), &end);
+  if (end == it->second.c_str() || *end != '\0' || !std::isfinite(v))
+    throw std::invalid_argument(f + " needs a number, not '" + it->second + "'");
+  return v;
+}
+
+Args parse(const std::vector<std::string>& argv, const std::set<std::string>& flags,
+           const std::set<std::string>& switches) {
+  Args a;
+  for (std::size_t i = 0; i < argv.size(); ++i) {
+    const std::string& s = argv[i];
+    if (s.rfind("--", 0) != 0) {
+      a.positional.push_back(s);
+    } else if (switches.count(s)) {
+      a.switches.insert(s);
+    } else if (flags.count(s)) {
+      if (i + 1 >= argv.size()) throw std::invalid_argument(s + " needs a value");
+      a.flags[s] = argv[++i];
+    } else {
+      throw std::invalid_argument("unknown option " + s);
+    }
+  }
+  return a;
+}
+
+int domain_of(const Args& a) {
+  const char* env = std::getenv("HCOSIM_DOMAIN");
+  const double d = a.number("--domain", env && *env ? std::atof(env) : 0.0);
+  if (d != std::floor(d) || d < 0 || d > rt::kMaxDomain)
+    throw std::invalid_argument("--domain must be a whole number in 0.." + std::to_string(rt::kMaxDomain));
+  return static_cast<int>(d);
+}
+
+}  // namespace hcosim::cli
+
+namespace {
+
+const char* kUsage = R"(usage: hcosim COMMAND [ARGS]
+
+Commands:
+  up FILE [--duration S] [--mode realtime|lockstep] [--out DIR]
+        start the services of a deployment file, each in its own process,
+        and stop them all at the end, on Ctrl-C, or when one fails
+  topics [--domain D] [--wait S]
+        list the topics and types seen on a domain
+  echo TOPIC [--count N] [--timeout S] [--domain D]
+        print samples of one of hcosim's topics as JSON lines
+  hz TOPIC [--duration S] [--domain D]
+        measure the rate at which a topic's samples arrive
+  bench SUITE|all|list [--quick] --out DIR
+        run a benchmark suite and write DIR/SUITE.json
+
+The domain defaults to $HCOSIM_DOMAIN, else 0. Topics: docs/topics.md.
+)";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "help")) {
+    std::cout << kUsage;
+    return argc < 2 ? 2 : 0;
+  }
+  const std::string cmd = argv[1];
+  const std::vector<std::string> rest(argv + 2, argv + argc);
+  return hcosim::rt::guarded_main("hcosim", [&]() -> int {
+    using namespace hcosim::cli;
+    if (cmd == "up") return up(rest);
+    if (cmd == "topics") return topics(rest);
+    if (cmd == "echo") return echo(rest);
+    if (cmd == "hz") return hz(rest);
+    if (cmd == "bench") return bench(rest);
+    if (cmd == "bench-peer") return bench_peer(rest);
+    std::cerr << "hcosim: unknown command '" << cmd << "'\n\n" << kUsage;
+    return 2;
+  });
+}

@@ -1,0 +1,248 @@
+// hcosim up: start a deployment's services as processes, watch them, stop them.
+#include <fcntl.h>
+#include <csignal>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include "cli.h"
+#include "service.h"
+
+namespace fs = std::filesystem;
+
+namespace hcosim::cli {
+namespace {
+
+volatile std::sig_atomic_t g_signal = 0;
+void on_signal(int s) { g_signal = s; }
+
+constexpr double kStopGraceS = 2.0;
+
+struct Child {
+  std::string name;
+  std::string exe;
+  std::vector<std::string> args;
+  pid_t pid = -1;
+  int status = 0;  // waitpid status once reaped
+  bool reaped = false;
+};
+
+// build/bin/hcosim_<kind>, searched in $HCOSIM_SERVICE_PATH, then beside this program.
+std::string find_service(const std::string& kind, const std::string& file, int line) {
+  std::vector<fs::path> dirs;
+  if (const char* env = std::getenv("HCOSIM_SERVICE_PATH")) {
+    std::stringstream ss(env);
+    for (std::string d; std::getline(ss, d, ':');)
+      if (!d.empty()) dirs.emplace_back(d);
+  }
+  dirs.push_back(fs::read_symlink("/proc/self/exe").parent_path());
+  for (const auto& d : dirs) {
+    const fs::path p = d / ("hcosim_" + kind);
+    if (access(p.c_str(), X_OK) == 0) return p.string();
+  }
+  std::string known;
+  for (const auto& d : dirs) {
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(d, ec)) {
+      const std::string n = e.path().filename().string();
+      if (n.rfind("hcosim_", 0) == 0 && n != "hcosim_clock") known += (known.empty() ? "" : ", ") + n.substr(7);
+    }
+  }
+  throw rt::ConfigError(file + ":" + std::to_string(line) + ":1: no service of kind '" + kind + "' (known kinds: " +
+                        (known.empty() ? "none" : known) + ")");
+}
+
+std::string describe(int status) {
+  if (WIFEXITED(status)) return "exit status " + std::to_string(WEXITSTATUS(status));
+  if (WIFSIGNALED(status)) return std::string("killed by signal ") + std::to_string(WTERMSIG(status)) + " (" +
+                                  strsignal(WTERMSIG(status)) + ")";
+  return "status " + std::to_string(status);
+}
+
+bool failed(const Child& c) { return !WIFEXITED(c.status) || WEXITSTATUS(c.status) != 0; }
+
+pid_t spawn(const Child& c, const fs::path& log) {
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
+  if (pid > 0) return pid;
+  // Child: die with the launcher, even if it is killed with SIGKILL.
+  prctl(PR_SET_PDEATHSIG, SIGTERM);
+  if (getppid() == 1) _exit(127);
+  const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (fd >= 0) {
+    dup2(fd, STDOUT_FILENO);
+    dup2(fd, STDERR_FILENO);
+    close(fd);
+  }
+  std::vector<char*> argv;
+  argv.push_back(const_cast<char*>(c.exe.c_str()));
+  for (const auto& a : c.args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  signal(SIGINT, SIG_DFL);
+  signal(SIGTERM, SIG_DFL);
+  execv(c.exe.c_str(), argv.data());
+  std::fprintf(stderr, "exec %s: %s\n", c.exe.c_str(), std::strerror(errno));
+  _exit(127);
+}
+
+// Reaps exited children without blocking; returns the first newly exited.
+Child* reap(std::vector<Child>& children) {
+  Child* first = nullptr;
+  for (auto& c : children) {
+    if (c.reaped) continue;
+    if (waitpid(c.pid, &c.status, WNOHANG) == c.pid) {
+      c.reaped = true;
+      if (!first) first = &c;
+    }
+  }
+  return first;
+}
+
+bool all_reaped(const std::vector<Child>& children) {
+  for (const auto& c : children)
+    if (!c.reaped) return false;
+  return true;
+}
+
+// SIGTERM to every running child, SIGKILL after the grace period. Returns
+// true if some child had to be killed.
+bool stop_all(std::vector<Child>& children) {
+  for (auto& c : children)
+    if (!c.reaped) kill(c.pid, SIGTERM);
+  const std::int64_t deadline = rt::mono_ns() + std::int64_t(kStopGraceS * 1e9);
+  while (!all_reaped(children) && rt::mono_ns() < deadline) {
+    reap(children);
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  bool killed = false;
+  for (auto& c : children) {
+    if (c.reaped) continue;
+    std::cerr << "hcosim up: " << c.name << " (pid " << c.pid << ") ignored SIGTERM for " << kStopGraceS
+              << " s; killing it\n";
+    kill(c.pid, SIGKILL);
+    waitpid(c.pid, &c.status, 0);
+    c.reaped = true;
+    killed = true;
+  }
+  return killed;
+}
+
+// A process that died without closing its participant leaves shared-memory
+// segments behind; Fast DDS's tool removes the ones nobody uses.
+void clean_shared_memory() {
+  if (std::system("fastdds shm clean > /dev/null 2>&1") != 0)
+    std::cerr << "hcosim up: 'fastdds shm clean' failed; stale segments may remain in /dev/shm\n";
+}
+
+}  // namespace
+
+int up(const std::vector<std::string>& argv) {
+  const Args a = parse(argv, {"--duration", "--mode", "--out"}, {});
+  if (a.positional.size() != 1) throw std::invalid_argument("up needs exactly one deployment FILE");
+  rt::Deployment d = rt::load_deployment(a.positional[0]);
+  if (a.has("--mode")) d.mode = rt::parse_mode(a.get("--mode", ""));
+  d.duration_s = a.number("--duration", d.duration_s);
+  if (d.duration_s < 0) throw std::invalid_argument("--duration must not be negative");
+  if (d.mode == rt::Mode::kLockstep && d.duration_s == 0)
+    throw std::invalid_argument("lockstep needs a duration (in the file or --duration)");
+  const fs::path out = a.get("--out", "out");
+  const fs::path logs = out / "logs";
+  fs::create_directories(logs);
+
+  const std::string file = fs::absolute(d.file).string();
+  auto common = [&](const std::string& name, double rate) {
+    std::ostringstream r, s;
+    r.precision(17);
+    s.precision(17);
+    r << rate;
+    s << d.step_s;
+    return std::vector<std::string>{"--name", name, "--domain", std::to_string(d.domain), "--mode",
+                                    rt::to_string(d.mode), "--rate", r.str(), "--step", s.str(),
+                                    "--deployment", file};
+  };
+  std::vector<Child> children;
+  for (const auto& s : d.services)
+    children.push_back({s.name, find_service(s.kind, d.file, s.line), common(s.name, s.rate_hz)});
+  if (d.mode == rt::Mode::kLockstep) {
+    Child clock{"clock", find_service("clock", d.file, 1), common("clock", 1.0 / d.step_s)};
+    std::ostringstream dur;
+    dur.precision(17);
+    dur << d.duration_s;
+    clock.args.insert(clock.args.end(), {"--duration", dur.str()});
+    children.push_back(std::move(clock));
+  }
+
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+
+  std::printf("hcosim up: %s, domain %d, %s, %zu service(s)%s\n", d.file.c_str(), d.domain, rt::to_string(d.mode),
+              children.size(), d.duration_s > 0 ? "" : ", until Ctrl-C");
+  for (auto& c : children) {
+    c.pid = spawn(c, logs / (c.name + ".log"));
+    std::printf("  started %-16s pid %-7d %s\n", c.name.c_str(), int(c.pid), c.exe.c_str());
+  }
+  std::fflush(stdout);
+
+  // Watch: a child that exits ends the run (lockstep: the clock exiting 0
+  // is the normal end); so do the duration and Ctrl-C.
+  const std::int64_t start = rt::mono_ns();
+  const std::int64_t end = d.mode == rt::Mode::kRealtime && d.duration_s > 0
+                               ? start + std::int64_t(d.duration_s * 1e9)
+                               : INT64_MAX;
+  std::string reason;
+  int code = 0;
+  while (reason.empty()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    if (g_signal) reason = std::string("stopped by ") + (g_signal == SIGINT ? "SIGINT" : "SIGTERM");
+    else if (rt::mono_ns() >= end) reason = "duration reached";
+    else if (Child* c = reap(children)) {
+      if (c->name == "clock" && !failed(*c)) {
+        reason = "lockstep run complete";
+        // Followers exit by themselves after the last tick.
+        const std::int64_t deadline = rt::mono_ns() + std::int64_t(kStopGraceS * 1e9);
+        while (!all_reaped(children) && rt::mono_ns() < deadline) {
+          reap(children);
+          std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+      } else {
+        reason = "service '" + c->name + "' ended (" + describe(c->status) + ")";
+        code = 1;
+      }
+    }
+  }
+  const bool killed = stop_all(children);
+  bool crashed = killed;
+  for (const auto& c : children) {
+    // SIGTERM from us is a clean stop; anything else non-zero is a failure.
+    const bool ours = WIFSIGNALED(c.status) && WTERMSIG(c.status) == SIGTERM;
+    if (failed(c) && !ours) {
+      code = 1;
+      crashed = crashed || WIFSIGNALED(c.status);
+    }
+  }
+  if (crashed) clean_shared_memory();
+
+  std::printf("hcosim up: %s after %.1f s\n", reason.c_str(), (rt::mono_ns() - start) * 1e-9);
+  for (const auto& c : children)
+    std::printf("  %-16s %-32s log %s\n", c.name.c_str(), describe(c.status).c_str(),
+                (logs / (c.name + ".log")).c_str());
+  std::printf("outputs: %s\n", fs::absolute(out).c_str());
+  return code;
+}
+
+}  // namespace hcosim::cli

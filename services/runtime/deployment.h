@@ -1,0 +1,65 @@
+// The deployment file: which services run, on which domain, in which time mode.
+// Every key, unit and default: docs/deployment.md.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
+
+namespace hcosim::rt {
+
+// A configuration problem, with its message already as "FILE:LINE:COL: what".
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// "FILE:LINE:COL: what" for a node (1-based line and column).
+ConfigError config_error(const std::string& file, const YAML::Node& node, const std::string& what);
+
+// Throws unless every key of `map` is in `allowed`; names the closest valid key.
+void check_keys(const std::string& file, const YAML::Node& map, const std::vector<std::string>& allowed);
+
+enum class Mode { kRealtime, kLockstep };
+const char* to_string(Mode m);
+Mode parse_mode(const std::string& s);  // throws std::invalid_argument
+
+// One service entry of the deployment.
+struct ServiceSpec {
+  std::string name;    // unique, [a-z0-9_], at most 31 characters
+  std::string kind;    // executable build/bin/hcosim_<kind>
+  double rate_hz = 0;  // step rate, Hz, > 0
+  YAML::Node params;   // kind-specific; checked by the service itself
+  int line = 0;        // 1-based line of the entry in the file
+};
+
+struct Deployment {
+  std::string file;
+  int domain = 0;           // DDS domain id, 0..232
+  Mode mode = Mode::kRealtime;
+  double step_s = 0.001;    // base step, s: lockstep tick length
+  double duration_s = 0;    // s of simulated time (lockstep) or wall time; 0 = until stopped
+  std::vector<ServiceSpec> services;
+};
+
+// Reads and validates a whole deployment file. Throws ConfigError on the
+// first problem, naming FILE:LINE:COL.
+Deployment load_deployment(const std::string& path);
+
+// Kind-specific parameters of one service, read with located errors.
+class Params {
+ public:
+  Params(std::string file, YAML::Node node);
+  // The number at `key`, or `fallback` when absent; must lie in [lo, hi].
+  double number(const std::string& key, double fallback, double lo, double hi) const;
+  // Throws if a key outside `allowed` is present.
+  void allow_only(const std::vector<std::string>& allowed) const;
+
+ private:
+  std::string file_;
+  YAML::Node node_;
+};
+
+}  // namespace hcosim::rt

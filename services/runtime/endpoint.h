@@ -1,0 +1,124 @@
+// Typed DataWriter and DataReader over the participant's QoS profiles.
+#pragma once
+
+#include <chrono>
+#include <functional>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include <fastdds/dds/core/status/PublicationMatchedStatus.hpp>
+#include <fastdds/dds/core/status/SubscriptionMatchedStatus.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+
+#include "participant.h"
+
+namespace hcosim::rt {
+
+// Samples refused by validation: how many and the latest reason.
+struct Rejections {
+  std::uint64_t count = 0;
+  std::string last;  // "Topic: reason"
+};
+
+// Writes samples of T on TopicOf<T>::name with a named QoS profile.
+template <class T>
+class Writer {
+ public:
+  explicit Writer(Participant& p, const std::string& profile = TopicOf<T>::qos) : p_(p) {
+    writer_ = p.publisher()->create_datawriter_with_profile(p.topic<T>(), profile);
+    if (!writer_)
+      throw std::runtime_error(std::string("cannot create a writer for ") + TopicOf<T>::name + " with QoS profile '" +
+                               profile + "'");
+  }
+  ~Writer() { p_.publisher()->delete_datawriter(writer_); }
+  Writer(const Writer&) = delete;
+  Writer& operator=(const Writer&) = delete;
+
+  // False if Fast DDS refused the sample (for example a full reliable history).
+  bool write(T& sample) { return writer_->write(&sample); }
+
+  // Readers currently matched: zero means an output nobody reads.
+  int matched() const {
+    eprosima::fastdds::dds::PublicationMatchedStatus s;
+    writer_->get_publication_matched_status(s);
+    return s.current_count;
+  }
+
+  eprosima::fastdds::dds::DataWriter* dds() const { return writer_; }
+
+ private:
+  Participant& p_;
+  eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
+};
+
+// Reads samples of T; each one passes `validate` before the caller sees it,
+// and refused ones are counted in `rejections` (when given).
+template <class T>
+class Reader {
+ public:
+  using Validator = std::function<std::optional<std::string>(const T&)>;
+
+  Reader(Participant& p, Validator validate = nullptr, Rejections* rejections = nullptr,
+         const std::string& profile = TopicOf<T>::qos)
+      : p_(p), validate_(std::move(validate)), rejections_(rejections) {
+    reader_ = p.subscriber()->create_datareader_with_profile(p.topic<T>(), profile);
+    if (!reader_)
+      throw std::runtime_error(std::string("cannot create a reader for ") + TopicOf<T>::name + " with QoS profile '" +
+                               profile + "'");
+  }
+  ~Reader() { p_.subscriber()->delete_datareader(reader_); }
+  Reader(const Reader&) = delete;
+  Reader& operator=(const Reader&) = delete;
+
+  // Takes every unread sample; calls f(sample) for each admissible one, in
+  // arrival order. Returns how many were admitted.
+  template <class F>
+  std::size_t take(F&& f) {
+    std::size_t admitted = 0;
+    eprosima::fastdds::dds::SampleInfo info;
+    while (reader_->take_next_sample(&sample_, &info) == ReturnCode_t::RETCODE_OK) {
+      if (!info.valid_data) continue;  // instance disposal, not data
+      if (validate_) {
+        if (auto problem = validate_(sample_)) {
+          if (rejections_) {
+            ++rejections_->count;
+            rejections_->last = std::string(TopicOf<T>::name) + ": " + *problem;
+          }
+          continue;
+        }
+      }
+      ++admitted;
+      f(sample_);
+    }
+    return admitted;
+  }
+
+  // Blocks until a sample is unread or `timeout` passes; true if one is.
+  bool wait(std::chrono::nanoseconds timeout) {
+    const auto s = std::chrono::duration_cast<std::chrono::seconds>(timeout);
+    const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(timeout - s);
+    return reader_->wait_for_unread_message(
+        eprosima::fastrtps::Duration_t(static_cast<int32_t>(s.count()), static_cast<uint32_t>(ns.count())));
+  }
+
+  // Writers currently matched.
+  int matched() const {
+    eprosima::fastdds::dds::SubscriptionMatchedStatus s;
+    reader_->get_subscription_matched_status(s);
+    return s.current_count;
+  }
+
+  eprosima::fastdds::dds::DataReader* dds() const { return reader_; }
+
+ private:
+  Participant& p_;
+  Validator validate_;
+  Rejections* rejections_;
+  eprosima::fastdds::dds::DataReader* reader_ = nullptr;
+  T sample_;  // reused so that large samples do not reallocate every take
+};
+
+}  // namespace hcosim::rt

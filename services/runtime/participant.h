@@ -1,0 +1,64 @@
+// One DDS participant per process, with the deployment's QoS profiles.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
+
+#include "topics.h"
+
+namespace hcosim::rt {
+
+// Highest domain id that fits Fast DDS's port formula (7400 + 250 * domain).
+inline constexpr int kMaxDomain = 232;
+
+// QoS file used when none is named: $HCOSIM_QOS, else the tree's deploy/qos.xml.
+std::string default_qos_file();
+
+// Owns the process's DomainParticipant, its publisher and subscriber, and
+// one Topic per type used. Destroying it deletes every DDS entity it made,
+// which also releases its shared-memory segments.
+class Participant {
+ public:
+  // Loads `qos_file` and joins `domain` under `name` (shown in discovery).
+  // Throws std::runtime_error naming the file or the domain on failure.
+  // A `listener`, if given, hears discovery from the first moment.
+  Participant(int domain, const std::string& name, const std::string& qos_file = default_qos_file(),
+              eprosima::fastdds::dds::DomainParticipantListener* listener = nullptr);
+  ~Participant();
+  Participant(const Participant&) = delete;
+  Participant& operator=(const Participant&) = delete;
+
+  // The Topic of type T, registering the type on first use.
+  template <class T>
+  eprosima::fastdds::dds::Topic* topic() {
+    auto it = topics_.find(TopicOf<T>::name);
+    if (it != topics_.end()) return it->second;
+    return make_topic(TopicOf<T>::name, TopicOf<T>::type_name, new typename TopicOf<T>::PubSub());
+  }
+
+  eprosima::fastdds::dds::DomainParticipant* dds() const { return participant_; }
+  eprosima::fastdds::dds::Publisher* publisher() const { return publisher_; }
+  eprosima::fastdds::dds::Subscriber* subscriber() const { return subscriber_; }
+  int domain() const { return domain_; }
+  const std::string& name() const { return name_; }
+
+ private:
+  eprosima::fastdds::dds::Topic* make_topic(const char* topic, const char* type,
+                                            eprosima::fastdds::dds::TopicDataType* support);
+
+  int domain_;
+  std::string name_;
+  eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
+  eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
+  eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
+  std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;
+};
+
+}  // namespace hcosim::rt

@@ -1,0 +1,240 @@
+#include "service.h"
+
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <csignal>
+#include <cstring>
+#include <ctime>
+#include <iostream>
+#include <stdexcept>
+#include <unistd.h>
+
+namespace hcosim::rt {
+namespace {
+
+std::atomic<bool> g_stop{false};
+
+void on_signal(int) { g_stop = true; }
+
+}  // namespace
+
+// Without SA_RESTART, so that sleeps and waits return early on a signal.
+void install_stop_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  signal(SIGPIPE, SIG_IGN);
+}
+
+bool stop_requested() { return g_stop; }
+
+namespace {
+
+constexpr std::int64_t kHeartbeatNs = 1'000'000'000;
+
+std::uint64_t steps_per_period(const Options& o) {
+  const double ratio = 1.0 / (o.rate_hz * o.step_s);
+  const double whole = std::round(ratio);
+  if (whole < 1 || std::abs(ratio - whole) > 1e-6 * whole)
+    throw std::invalid_argument("rate " + std::to_string(o.rate_hz) + " Hz is not a whole divisor of the base step rate " +
+                                std::to_string(1.0 / o.step_s) + " Hz");
+  return static_cast<std::uint64_t>(whole);
+}
+
+Params load_params(const Options& o) {
+  if (o.deployment.empty()) return Params("", YAML::Node());
+  for (const auto& s : load_deployment(o.deployment).services)
+    if (s.name == o.name) return Params(o.deployment, s.params);
+  throw ConfigError(o.deployment + ": has no service named '" + o.name + "'");
+}
+
+double value_of(const std::string& flag, const char* v) {
+  char* end = nullptr;
+  const double x = std::strtod(v, &end);
+  if (end == v || *end != '\0' || !std::isfinite(x)) throw std::invalid_argument(flag + " needs a number, not '" + v + "'");
+  return x;
+}
+
+}  // namespace
+
+std::int64_t mono_ns() {
+  timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return std::int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+std::int64_t wall_ns() {
+  timespec ts;
+  clock_gettime(CLOCK_REALTIME, &ts);
+  return std::int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+Options parse_options(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string flag = argv[i];
+    if (i + 1 >= argc) throw std::invalid_argument(flag + " needs a value");
+    const char* v = argv[++i];
+    if (flag == "--name") o.name = v;
+    else if (flag == "--domain") o.domain = static_cast<int>(value_of(flag, v));
+    else if (flag == "--mode") o.mode = parse_mode(v);
+    else if (flag == "--rate") o.rate_hz = value_of(flag, v);
+    else if (flag == "--step") o.step_s = value_of(flag, v);
+    else if (flag == "--duration") o.duration_s = value_of(flag, v);
+    else if (flag == "--qos") o.qos_file = v;
+    else if (flag == "--deployment") o.deployment = v;
+    else throw std::invalid_argument("unknown option " + flag);
+  }
+  if (o.name.empty() || o.name.size() > 31) throw std::invalid_argument("--name NAME (1 to 31 characters) is required");
+  if (!(o.rate_hz > 0)) throw std::invalid_argument("--rate HZ (> 0) is required");
+  if (o.step_s == 0) o.step_s = 1.0 / o.rate_hz;
+  if (!(o.step_s > 0)) throw std::invalid_argument("--step must be positive");
+  if (o.duration_s < 0) throw std::invalid_argument("--duration must not be negative");
+  if (o.qos_file.empty()) o.qos_file = default_qos_file();
+  return o;
+}
+
+Service::Service(Options options)
+    : options_(std::move(options)),
+      period_steps_(steps_per_period(options_)),
+      participant_(options_.domain, options_.name, options_.qos_file),
+      params_(load_params(options_)),
+      status_(participant_) {
+  install_stop_handlers();
+  heartbeat(0, 0);
+}
+
+Service::~Service() = default;
+
+StepStamp Service::stamp(const Tick& tick) const {
+  StepStamp s;
+  s.step(tick.step);
+  s.sim_time_ns(tick.sim_time_ns);
+  s.wall_time_ns(wall_ns());
+  return s;
+}
+
+void Service::record_step(double jitter_us, double step_us, bool overrun) {
+  ++steps_;
+  if (overrun) ++overruns_;
+  jitter_us_.add(jitter_us);
+  step_us_.add(step_us);
+}
+
+void Service::heartbeat(std::int64_t sim_time_ns, std::uint64_t step, bool stopping) {
+  const std::int64_t now = mono_ns();
+  const std::int64_t since = now - last_heartbeat_ns_;
+  if (!stopping && last_heartbeat_ns_ != 0 && since < kHeartbeatNs) return;
+
+  ServiceStatus s;
+  s.service(options_.name);
+  s.stamp().step(step);
+  s.stamp().sim_time_ns(sim_time_ns);
+  s.stamp().wall_time_ns(wall_ns());
+  s.pid(static_cast<std::uint32_t>(getpid()));
+  s.mode(to_string(options_.mode));
+  s.state(stopping ? "stopping" : "running");
+  s.rate_target_hz(options_.rate_hz);
+  s.rate_achieved_hz(since > 0 ? double(steps_ - steps_at_heartbeat_) * 1e9 / double(since) : 0.0);
+  s.jitter_p50_us(jitter_us_.percentile(0.5));
+  s.jitter_p99_us(jitter_us_.percentile(0.99));
+  s.step_p99_us(step_us_.percentile(0.99));
+  s.steps(steps_);
+  s.overruns(overruns_);
+  s.samples_rejected(rejections_.count);
+  s.last_rejection(rejections_.last.substr(0, 128));
+  s.outputs_skipped(outputs_skipped_);
+  status_.write(s);
+
+  jitter_us_.clear();
+  step_us_.clear();
+  steps_at_heartbeat_ = steps_;
+  last_heartbeat_ns_ = now;
+}
+
+int Service::run(const std::function<void(const Tick&)>& step) {
+  const int code = options_.mode == Mode::kLockstep ? run_lockstep(step) : run_realtime(step);
+  heartbeat(std::int64_t(steps_ * period_steps_ * options_.step_s * 1e9), steps_ * period_steps_, true);
+  return code;
+}
+
+int Service::run_realtime(const std::function<void(const Tick&)>& step) {
+  const std::int64_t period_ns = std::llround(1e9 / options_.rate_hz);
+  const std::int64_t start = mono_ns();
+  const std::int64_t end = options_.duration_s > 0 ? start + std::llround(options_.duration_s * 1e9) : INT64_MAX;
+  std::int64_t k = 0;
+  while (!g_stop) {
+    const std::int64_t due = start + k * period_ns;
+    if (due >= end) break;
+    timespec ts{static_cast<time_t>(due / 1'000'000'000), static_cast<long>(due % 1'000'000'000)};
+    // Sleep, never spin: on 2 cores a spinning loop starves Fast DDS's own threads.
+    if (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) continue;
+    const std::int64_t woke = mono_ns();
+    const Tick tick{std::uint64_t(k) * period_steps_, k * period_ns, period_ns * 1e-9};
+    step(tick);
+    const std::int64_t done = mono_ns();
+    // A step that ends after the next one was due is an overrun; the missed
+    // ticks are skipped, not run late in a burst.
+    std::int64_t next = k + 1;
+    const bool overrun = done > start + next * period_ns;
+    if (overrun) next = (done - start) / period_ns + 1;
+    record_step((woke - due) * 1e-3, (done - woke) * 1e-3, overrun);
+    heartbeat(tick.sim_time_ns, tick.step);
+    k = next;
+  }
+  return 0;
+}
+
+int Service::run_lockstep(const std::function<void(const Tick&)>& step) {
+  Reader<ClockTick> ticks(participant_, [](const ClockTick& t) { return validate(t); }, &rejections_);
+  Writer<StepDone> done(participant_);
+  std::uint64_t expected = 0;
+  bool finished = false;
+  int code = 0;
+  std::int64_t sim_ns = 0;
+  while (!g_stop && !finished && code == 0) {
+    heartbeat(sim_ns, expected);
+    if (!ticks.wait(std::chrono::milliseconds(100))) continue;
+    ticks.take([&](const ClockTick& t) {
+      if (finished || code != 0) return;
+      if (t.step() != expected) {
+        std::cerr << options_.name << ": lockstep tick " << t.step() << " arrived, expected " << expected << "\n";
+        code = 1;
+        return;
+      }
+      const std::int64_t t0 = mono_ns();
+      sim_ns = t.sim_time_ns();
+      if (t.step() % period_steps_ == 0) {
+        step(Tick{t.step(), t.sim_time_ns(), double(period_steps_) * double(t.step_ns()) * 1e-9});
+        record_step(0.0, (mono_ns() - t0) * 1e-3, false);
+      }
+      StepDone d;
+      d.service(options_.name);
+      d.step(t.step());
+      done.write(d);
+      ++expected;
+      finished = t.last();
+    });
+  }
+  return code;
+}
+
+int guarded_main(const char* program, const std::function<int()>& body) {
+  try {
+    return body();
+  } catch (const ConfigError& e) {
+    std::cerr << program << ": " << e.what() << "\n";
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << program << ": " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << program << ": error: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace hcosim::rt

@@ -1,0 +1,108 @@
+// The frame every hcosim service runs in: options, participant, time,
+// heartbeat, validation counts and clean shutdown. A service provides a
+// step function; the runtime decides when it runs.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "deployment.h"
+#include "endpoint.h"
+#include "participant.h"
+#include "stats.h"
+#include "validate.h"
+
+namespace hcosim::rt {
+
+// Command-line options shared by every service executable.
+struct Options {
+  std::string name;           // --name: service name, key of its ServiceStatus
+  int domain = 0;             // --domain
+  Mode mode = Mode::kRealtime;  // --mode realtime|lockstep
+  double rate_hz = 0;         // --rate: step rate, Hz (required)
+  double step_s = 0;          // --step: base step, s (default 1/rate)
+  double duration_s = 0;      // --duration: s; 0 = until stopped (realtime only)
+  std::string qos_file;       // --qos (default: default_qos_file())
+  std::string deployment;     // --deployment: file holding this service's params
+};
+
+// Parses argv; throws std::invalid_argument with a usage message on error.
+Options parse_options(int argc, char** argv);
+
+// One step of a service.
+struct Tick {
+  std::uint64_t step;       // base-step index (StepStamp.step of outputs)
+  std::int64_t sim_time_ns; // simulated time at this step
+  double dt_s;              // time since this service's previous step, s
+};
+
+class Service {
+ public:
+  explicit Service(Options options);
+  ~Service();
+
+  // Writer and reader on this service's participant. Readers validate with
+  // hcosim::validate and count refusals in this service's status.
+  template <class T>
+  Writer<T> writer(const std::string& profile = TopicOf<T>::qos) {
+    return Writer<T>(participant_, profile);
+  }
+  template <class T>
+  Reader<T> reader(const std::string& profile = TopicOf<T>::qos) {
+    return Reader<T>(participant_, [](const T& s) { return validate(s); }, &rejections_, profile);
+  }
+
+  // This service's params from the deployment file (empty without one).
+  const Params& params() const { return params_; }
+
+  // StepStamp for outputs computed at `tick`.
+  StepStamp stamp(const Tick& tick) const;
+
+  // Counts an output not computed because no reader is matched.
+  void skip_output() { ++outputs_skipped_; }
+
+  // Calls step() at the configured rate, from the wall clock (realtime) or
+  // the lockstep master's ClockTick (lockstep), until SIGINT/SIGTERM, the
+  // duration, or the master's last tick. Returns the process exit status.
+  int run(const std::function<void(const Tick&)>& step);
+
+  // For services that drive their own loop (the lockstep master): record
+  // one step; publish status if a period has passed (or when stopping).
+  void record_step(double jitter_us, double step_us, bool overrun);
+  void heartbeat(std::int64_t sim_time_ns, std::uint64_t step, bool stopping = false);
+
+  const Options& options() const { return options_; }
+  Participant& participant() { return participant_; }
+
+ private:
+  int run_realtime(const std::function<void(const Tick&)>& step);
+  int run_lockstep(const std::function<void(const Tick&)>& step);
+
+  Options options_;
+  std::uint64_t period_steps_;  // base steps per service step
+  Participant participant_;
+  Params params_;
+  Writer<ServiceStatus> status_;
+  Rejections rejections_;
+  Window jitter_us_, step_us_;
+  std::uint64_t steps_ = 0, overruns_ = 0, outputs_skipped_ = 0;
+  std::uint64_t steps_at_heartbeat_ = 0;
+  std::int64_t last_heartbeat_ns_ = 0;  // 0 until the first heartbeat
+};
+
+// SIGINT and SIGTERM set a flag instead of killing the process, so loops
+// end and every DDS entity is deleted. Installed by Service itself.
+void install_stop_handlers();
+bool stop_requested();
+
+// Runs body() and turns exceptions into a message on stderr and an exit
+// status: 2 for usage and configuration errors, 1 for anything else.
+int guarded_main(const char* program, const std::function<int()>& body);
+
+// Monotonic and wall clocks, ns.
+std::int64_t mono_ns();
+std::int64_t wall_ns();
+
+}  // namespace hcosim::rt

@@ -1,0 +1,71 @@
+// The topic contract in C++: each IDL type's topic name and QoS profile.
+// docs/topics.md is the prose version of this table; keep them together.
+#pragma once
+
+#include <string_view>
+#include <tuple>
+
+#include "hcosim/idl/clockPubSubTypes.h"
+#include "hcosim/idl/hapticPubSubTypes.h"
+#include "hcosim/idl/meshPubSubTypes.h"
+#include "hcosim/idl/rigidPubSubTypes.h"
+#include "hcosim/idl/statusPubSubTypes.h"
+#include "hcosim/idl/visionPubSubTypes.h"
+
+namespace hcosim::rt {
+
+template <class T>
+struct TopicOf;
+
+#define HCOSIM_TOPIC(Type, topic_name, profile)                    \
+  template <>                                                      \
+  struct TopicOf<Type> {                                             \
+    using PubSub = Type##PubSubType;                               \
+    static constexpr const char* name = topic_name;                \
+    static constexpr const char* type_name = "hcosim::" #Type;     \
+    static constexpr const char* qos = profile;                    \
+  }
+
+HCOSIM_TOPIC(HapticState, "HapticState", "control");
+HCOSIM_TOPIC(ForceFeedback, "ForceFeedback", "control");
+HCOSIM_TOPIC(MarkerPose, "MarkerPose", "state");
+HCOSIM_TOPIC(CameraFrame, "CameraFrame", "state");
+HCOSIM_TOPIC(RigidBodyState, "RigidBodyState", "state");
+HCOSIM_TOPIC(DeformedMesh, "DeformedMesh", "state");
+HCOSIM_TOPIC(MeshTopology, "DeformedMeshTopology", "latched");
+HCOSIM_TOPIC(ServiceStatus, "ServiceStatus", "state");
+HCOSIM_TOPIC(ClockTick, "ClockTick", "sequence");
+HCOSIM_TOPIC(StepDone, "StepDone", "sequence");
+
+#undef HCOSIM_TOPIC
+
+using AllTypes = std::tuple<HapticState, ForceFeedback, MarkerPose, CameraFrame, RigidBodyState,
+                            DeformedMesh, MeshTopology, ServiceStatus, ClockTick, StepDone>;
+
+// Carries a type to generic lambdas: f(TypeTag<T>{}).
+template <class T>
+struct TypeTag {
+  using type = T;
+};
+
+// Calls f(TypeTag<T>{}) for every type of the contract.
+template <class F>
+void for_each_topic(F&& f) {
+  std::apply([&](auto... sample) { (f(TypeTag<decltype(sample)>{}), ...); }, AllTypes{});
+}
+
+// Calls f(TypeTag<T>{}) for the type whose topic is `name`; false if none is.
+template <class F>
+bool with_topic(std::string_view name, F&& f) {
+  bool found = false;
+  for_each_topic([&](auto tag) {
+    using T = typename decltype(tag)::type;
+    if (!found && name == TopicOf<T>::name) {
+      found = true;
+      f(tag);
+    }
+  });
+  return found;
+}
+
+}  // namespace hcosim::rt
