@@ -28,6 +28,7 @@ int run_clock(Options options) {
   if (!options.deployment.empty())
     for (const auto& s : load_deployment(options.deployment).services) followers.insert(s.name);
   options.mode = Mode::kLockstep;
+  options.deployment.clear();  // the clock has no params of its own
   Service svc(options);
   Writer<ClockTick> ticks(svc.participant());
   Reader<StepDone> done = svc.reader<StepDone>();
@@ -63,6 +64,10 @@ int run_clock(Options options) {
     std::set<std::string> waiting = followers;
     const std::int64_t deadline = mono_ns() + std::int64_t(kStepTimeoutS * 1e9);
     while (!waiting.empty()) {
+      if (stop_requested()) {
+        std::printf("clock: stopped at step %llu\n", static_cast<unsigned long long>(k));
+        return 0;
+      }
       if (mono_ns() > deadline) {
         std::cerr << "clock: step " << k << ": no StepDone from " << names(waiting) << " after " << kStepTimeoutS
                   << " s\n";

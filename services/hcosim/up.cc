@@ -98,17 +98,17 @@ pid_t spawn(const Child& c, const fs::path& log) {
   _exit(127);
 }
 
-// Reaps exited children without blocking; returns the first newly exited.
-Child* reap(std::vector<Child>& children) {
-  Child* first = nullptr;
+// Reaps exited children without blocking; returns the newly exited ones.
+std::vector<Child*> reap(std::vector<Child>& children) {
+  std::vector<Child*> exited;
   for (auto& c : children) {
     if (c.reaped) continue;
     if (waitpid(c.pid, &c.status, WNOHANG) == c.pid) {
       c.reaped = true;
-      if (!first) first = &c;
+      exited.push_back(&c);
     }
   }
-  return first;
+  return exited;
 }
 
 bool all_reaped(const std::vector<Child>& children) {
@@ -210,20 +210,25 @@ int up(const std::vector<std::string>& argv) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     if (g_signal) reason = std::string("stopped by ") + (g_signal == SIGINT ? "SIGINT" : "SIGTERM");
     else if (rt::mono_ns() >= end) reason = "duration reached";
-    else if (Child* c = reap(children)) {
-      if (c->name == "clock" && !failed(*c)) {
-        reason = "lockstep run complete";
-        // Followers exit by themselves after the last tick.
-        const std::int64_t deadline = rt::mono_ns() + std::int64_t(kStopGraceS * 1e9);
-        while (!all_reaped(children) && rt::mono_ns() < deadline) {
-          reap(children);
-          std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    else
+      for (Child* c : reap(children)) {
+        if (!reason.empty()) break;
+        if (failed(*c)) {
+          reason = "service '" + c->name + "' ended (" + describe(c->status) + ")";
+          code = 1;
+        } else if (d.mode == rt::Mode::kRealtime) {
+          reason = "service '" + c->name + "' finished";
+        } else if (c->name == "clock") {
+          // Followers exit by themselves after the last tick.
+          reason = "lockstep run complete";
+          const std::int64_t deadline = rt::mono_ns() + std::int64_t(kStopGraceS * 1e9);
+          while (!all_reaped(children) && rt::mono_ns() < deadline) {
+            reap(children);
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+          }
         }
-      } else {
-        reason = "service '" + c->name + "' ended (" + describe(c->status) + ")";
-        code = 1;
+        // A lockstep follower that exits 0 has seen the last tick; the clock ends the run.
       }
-    }
   }
   const bool killed = stop_all(children);
   bool crashed = killed;

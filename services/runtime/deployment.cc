@@ -161,6 +161,15 @@ double Params::number(const std::string& key, double fallback, double lo, double
   return v;
 }
 
+std::string Params::text(const std::string& key, const std::string& fallback,
+                         const std::vector<std::string>& allowed) const {
+  if (!node_ || !node_[key]) return fallback;
+  const std::string v = rt::text(file_, node_[key], key);
+  if (std::find(allowed.begin(), allowed.end(), v) == allowed.end())
+    throw config_error(file_, node_[key], "'" + key + "' must be one of " + list(allowed) + ", not '" + v + "'");
+  return v;
+}
+
 void Params::allow_only(const std::vector<std::string>& allowed) const {
   if (node_ && node_.IsMap()) check_keys(file_, node_, allowed);
 }

@@ -54,6 +54,8 @@ class Params {
   Params(std::string file, YAML::Node node);
   // The number at `key`, or `fallback` when absent; must lie in [lo, hi].
   double number(const std::string& key, double fallback, double lo, double hi) const;
+  // The string at `key`, or `fallback` when absent; must be one of `allowed`.
+  std::string text(const std::string& key, const std::string& fallback, const std::vector<std::string>& allowed) const;
   // Throws if a key outside `allowed` is present.
   void allow_only(const std::vector<std::string>& allowed) const;
 

@@ -40,6 +40,17 @@ class Writer {
   // False if Fast DDS refused the sample (for example a full reliable history).
   bool write(T& sample) { return writer_->write(&sample); }
 
+  // Blocks until every matched reliable reader acknowledged what was
+  // written, or `timeout` passes; true if acknowledged. Call before exiting
+  // when the last sample matters: deleting the writer drops unsent samples.
+  bool wait_acknowledged(std::chrono::nanoseconds timeout) {
+    const auto s = std::chrono::duration_cast<std::chrono::seconds>(timeout);
+    const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(timeout - s);
+    return writer_->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(static_cast<int32_t>(s.count()),
+                                                                           static_cast<uint32_t>(ns.count()))) ==
+           ReturnCode_t::RETCODE_OK;
+  }
+
   // Readers currently matched: zero means an output nobody reads.
   int matched() const {
     eprosima::fastdds::dds::PublicationMatchedStatus s;

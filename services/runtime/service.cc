@@ -214,11 +214,17 @@ int Service::run_lockstep(const std::function<void(const Tick&)>& step) {
       StepDone d;
       d.service(options_.name);
       d.step(t.step());
-      done.write(d);
+      if (!done.write(d)) {
+        std::cerr << options_.name << ": could not write StepDone for step " << t.step() << "\n";
+        code = 1;
+        return;
+      }
       ++expected;
       finished = t.last();
     });
   }
+  if (finished && !done.wait_acknowledged(std::chrono::seconds(2)))
+    std::cerr << options_.name << ": the clock did not acknowledge the last StepDone\n";
   return code;
 }
 

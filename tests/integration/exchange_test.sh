@@ -1,0 +1,38 @@
+# Two service processes started by hcosim up exchange HapticState and
+# ForceFeedback over Fast DDS; a third sends NaN samples that are refused
+# and counted in ServiceStatus, and never answered.
+source "$(dirname "$0")/lib.sh"
+deployment up.yaml <<'YAML'
+mode: realtime
+duration: 4
+services:
+  - name: src
+    kind: test_probe
+    rate: 500
+    params: {role: source, nan_every: 5}
+  - name: wall
+    kind: test_probe
+    rate: 1000
+    params: {role: wall, stiffness: 800}
+YAML
+start status "$BIN/hcosim" echo ServiceStatus --count 0 --timeout 8
+start force "$BIN/hcosim" echo ForceFeedback --count 200 --timeout 8
+timeout 30 "$BIN/hcosim" up "$WORK/up.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1 || fail "up exited $?"
+grep -q "duration reached" "$WORK/up.log" || fail "up did not run to its duration"
+line=$(grep "probe src:" "$WORK/out/logs/src.log") || fail "no summary from src"
+sent=$(echo "$line" | sed -nE 's/.*sent ([0-9]+).*/\1/p')
+answers=$(echo "$line" | sed -nE 's/.*answers ([0-9]+).*/\1/p')
+[ "$sent" -gt 1000 ] || fail "src sent only $sent samples in 4 s at 500 Hz"
+# One in five samples is NaN and must go unanswered; the rest are answered
+# unless best-effort delivery lost them (rare on loopback).
+awk -v a="$answers" -v s="$sent" 'BEGIN { exit !(a >= 0.5 * s && a <= 0.8 * s + 5) }' ||
+  fail "wall answered $answers of $sent (expected about 80%): $line"
+wait "${PIDS[1]}"
+grep -q '"source":"wall"' "$WORK/force.log" || fail "no ForceFeedback from wall on the wire"
+grep -q '"in_contact":true' "$WORK/force.log" || fail "wall never reported contact"
+grep -v '^{' "$WORK/force.log" | grep -q . && fail "non-JSON output from echo"
+grep -q 'null' "$WORK/force.log" && fail "a non-finite force reached the wire"
+wait "${PIDS[0]}"
+grep '"service":"wall"' "$WORK/status.log" | grep -q '"samples_rejected":[1-9]' || fail "wall did not count rejections"
+grep '"service":"wall"' "$WORK/status.log" | grep -q 'HapticState: position.x is NaN' || fail "rejection reason missing"
+echo "exchange_test: ok ($answers of $sent answered)"

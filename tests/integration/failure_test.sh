@@ -1,0 +1,50 @@
+# A service that fails ends the run: up names it and its exit status, stops
+# the others, and leaves no process behind. Ctrl-C stops everything in 2 s.
+source "$(dirname "$0")/lib.sh"
+deployment fail.yaml <<'YAML'
+services:
+  - name: steady
+    kind: test_probe
+    rate: 100
+    params: {role: source}
+  - name: flaky
+    kind: test_probe
+    rate: 100
+    params: {role: wall, fail_after: 1}
+YAML
+timeout 30 "$BIN/hcosim" up "$WORK/fail.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1
+code=$?
+[ $code -eq 1 ] || fail "up exited $code, expected 1"
+grep -q "service 'flaky' ended (exit status 3)" "$WORK/up.log" || fail "failure not named"
+for pid in $(sed -nE 's/.*started +[a-z]+ +pid ([0-9]+).*/\1/p' "$WORK/up.log"); do
+  alive "$pid" && fail "process $pid still running after up exited"
+done
+
+# Ctrl-C while running without a duration.
+sed -i 's/fail_after: 1/fail_after: 0/' "$WORK/fail.yaml"
+"$BIN/hcosim" up "$WORK/fail.yaml" --out "$WORK/out" >"$WORK/up2.log" 2>&1 &
+up=$!
+sleep 2
+pids=$(sed -nE 's/.*started +[a-z]+ +pid ([0-9]+).*/\1/p' "$WORK/up2.log")
+[ "$(echo "$pids" | wc -w)" -eq 2 ] || fail "expected 2 services started: $(cat "$WORK/up2.log")"
+t0=$(date +%s%N)
+kill -INT $up
+wait $up
+code=$?
+ms=$(( ($(date +%s%N) - t0) / 1000000 ))
+[ $code -eq 0 ] || fail "up exited $code after SIGINT"
+[ $ms -lt 2500 ] || fail "stopping took $ms ms"
+grep -q "stopped by SIGINT" "$WORK/up2.log" || fail "no stop message"
+for pid in $pids; do alive "$pid" && fail "service $pid survived Ctrl-C"; done
+grep -q "steady .*exit status 0" "$WORK/up2.log" || fail "steady did not exit cleanly: $(cat "$WORK/up2.log")"
+
+# A bad file starts nothing and says where the problem is.
+printf 'domain: 1\nservices:\n  - {name: a, kind: test_probe, rte: 5}\n' >"$WORK/bad.yaml"
+err=$("$BIN/hcosim" up "$WORK/bad.yaml" 2>&1); code=$?
+[ $code -eq 2 ] || fail "bad file exited $code"
+echo "$err" | grep -q "bad.yaml:3:33: unknown key 'rte'; did you mean 'rate'?" || fail "message: $err"
+printf 'services:\n  - {name: a, kind: warp_drive, rate: 5}\n' >"$WORK/bad2.yaml"
+err=$("$BIN/hcosim" up "$WORK/bad2.yaml" 2>&1); code=$?
+[ $code -eq 2 ] || fail "unknown kind exited $code"
+echo "$err" | grep -q "bad2.yaml:2:1: no service of kind 'warp_drive' (known kinds: .*test_probe" || fail "message: $err"
+echo "failure_test: ok (stopped in $ms ms)"

@@ -1,0 +1,54 @@
+# Shared by the integration tests. ctest runs each script as
+#   bash SCRIPT BIN_DIR TEST_BIN_DIR DOMAIN
+# with a domain id of its own, so tests can run in parallel.
+set -u
+BIN=$1
+export HCOSIM_SERVICE_PATH=$2
+DOMAIN=$3
+export HCOSIM_DOMAIN=$DOMAIN
+WORK=$(mktemp -d /tmp/hcosim_it.XXXXXX)
+PIDS=()
+
+cleanup() {
+  for p in "${PIDS[@]}"; do kill -TERM "$p" 2>/dev/null; done
+  for p in "${PIDS[@]}"; do wait "$p" 2>/dev/null; done
+  rm -rf "$WORK"
+}
+trap cleanup EXIT
+
+fail() {
+  echo "FAIL: $*" >&2
+  for f in "$WORK"/*.log "$WORK"/out/logs/*.log; do
+    [ -f "$f" ] && { echo "--- $f" >&2; tail -n 20 "$f" >&2; }
+  done
+  exit 1
+}
+
+# start NAME COMMAND...: runs a command in the background, output to $WORK/NAME.log
+start() {
+  local name=$1
+  shift
+  "$@" >"$WORK/$name.log" 2>&1 &
+  PIDS+=($!)
+}
+
+# probe NAME RATE ROLE [extra yaml params]: a test service on $DOMAIN in real time
+probe() {
+  local name=$1 rate=$2 role=$3 extra=${4:-}
+  cat >"$WORK/$name.yaml" <<YAML
+services:
+  - name: $name
+    kind: test_probe
+    rate: $rate
+    params: {role: $role $extra}
+YAML
+  start "$name" "$HCOSIM_SERVICE_PATH/hcosim_test_probe" --name "$name" --rate "$rate" --domain "$DOMAIN" \
+    --deployment "$WORK/$name.yaml"
+}
+
+# deployment FILE: writes stdin to $WORK/FILE with the test's domain
+deployment() {
+  { echo "domain: $DOMAIN"; cat; } >"$WORK/$1"
+}
+
+alive() { kill -0 "$1" 2>/dev/null; }

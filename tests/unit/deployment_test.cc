@@ -1,0 +1,109 @@
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "deployment.h"
+
+namespace hcosim::rt {
+namespace {
+
+std::string write_file(const std::string& name, const std::string& text) {
+  const auto path = std::filesystem::temp_directory_path() / ("hcosim_" + std::to_string(getpid()) + "_" + name);
+  std::ofstream(path) << text;
+  return path.string();
+}
+
+TEST(Deployment, ParsesAValidFile) {
+  const std::string f = write_file("ok.yaml",
+                                   "domain: 12\nmode: lockstep\nstep: 0.001\nduration: 2\nservices:\n"
+                                   "  - name: haptic\n    kind: haptic_device\n    rate: 1000\n"
+                                   "  - name: view\n    kind: ar_view\n    rate: 30\n    params: {fps: 30}\n");
+  const Deployment d = load_deployment(f);
+  EXPECT_EQ(d.domain, 12);
+  EXPECT_EQ(d.mode, Mode::kLockstep);
+  EXPECT_DOUBLE_EQ(d.duration_s, 2);
+  ASSERT_EQ(d.services.size(), 2u);
+  EXPECT_EQ(d.services[1].kind, "ar_view");
+  EXPECT_EQ(d.services[1].line, 9);
+  EXPECT_EQ(Params(f, d.services[1].params).number("fps", 0, 1, 120), 30);
+}
+
+TEST(Deployment, DefaultsWhenKeysAreAbsent) {
+  const Deployment d = load_deployment(write_file("empty.yaml", "services: []\n"));
+  EXPECT_EQ(d.domain, 0);
+  EXPECT_EQ(d.mode, Mode::kRealtime);
+  EXPECT_DOUBLE_EQ(d.step_s, 0.001);
+  EXPECT_TRUE(d.services.empty());
+}
+
+struct BadCase {
+  const char* name;
+  const char* text;
+  const char* where;  // expected ":LINE:COL: " after the file name
+  const char* what;   // expected part of the message
+};
+
+class BadDeployment : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(BadDeployment, NamesFileLineColumnAndProblem) {
+  const BadCase& c = GetParam();
+  const std::string f = write_file(std::string(c.name) + ".yaml", c.text);
+  try {
+    load_deployment(f);
+    FAIL() << "no error for " << c.name;
+  } catch (const ConfigError& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.rfind(f + c.where, 0), 0u) << msg;
+    EXPECT_NE(msg.find(c.what), std::string::npos) << msg;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Table, BadDeployment,
+    ::testing::Values(
+        BadCase{"syntax", "domain: 1\nservices: [\n", ":3:1: ", "YAML syntax error"},
+        BadCase{"typo", "domian: 3\n", ":1:1: ", "did you mean 'domain'?"},
+        BadCase{"unknown", "frobnicate: 3\n", ":1:1: ", "unknown key 'frobnicate' (valid keys:"},
+        BadCase{"domain_range", "domain: 233\n", ":1:9: ", "0..232"},
+        BadCase{"domain_type", "domain: abc\n", ":1:9: ", "must be a number"},
+        BadCase{"mode", "mode: fast\n", ":1:7: ", "'realtime' or 'lockstep'"},
+        BadCase{"step", "step: 0\n", ":1:7: ", "'step' must be in"},
+        BadCase{"services_type", "services: 3\n", ":1:11: ", "must be a list"},
+        BadCase{"missing_kind", "services:\n  - name: a\n    rate: 10\n", ":2:5: ", "missing required key 'kind'"},
+        BadCase{"negative_rate", "services:\n  - {name: a, kind: b, rate: -5}\n", ":2:30: ", "'rate' must be in"},
+        BadCase{"service_typo", "services:\n  - {name: a, kind: b, rte: 5}\n", ":2:24: ", "did you mean 'rate'?"},
+        BadCase{"bad_name", "services:\n  - {name: Bad-Name, kind: b, rate: 5}\n", ":2:12: ", "must be 1 to 31"},
+        BadCase{"duplicate", "services:\n  - {name: a, kind: b, rate: 5}\n  - {name: a, kind: b, rate: 5}\n",
+                ":3:12: ", "used twice"},
+        BadCase{"reserved", "services:\n  - {name: clock, kind: b, rate: 5}\n", ":2:12: ", "reserved"}),
+    [](const auto& info) { return std::string(info.param.name); });
+
+TEST(Deployment, MissingFileIsNamed) {
+  try {
+    load_deployment("/nonexistent/deploy.yaml");
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_STREQ(e.what(), "/nonexistent/deploy.yaml: cannot be read");
+  }
+}
+
+TEST(Params, RangeAndChoiceErrorsAreLocated) {
+  const std::string f = write_file("params.yaml", "services:\n  - name: a\n    kind: b\n    rate: 5\n"
+                                                  "    params:\n      gain: 7\n      role: boss\n");
+  const Deployment d = load_deployment(f);
+  const Params p(f, d.services[0].params);
+  EXPECT_EQ(p.number("absent", 1.5, 0, 2), 1.5);
+  EXPECT_THROW(p.number("gain", 0, 0, 5), ConfigError);
+  try {
+    p.text("role", "a", {"a", "b"});
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()), f + ":7:13: 'role' must be one of a, b, not 'boss'");
+  }
+  EXPECT_THROW(p.allow_only({"gain"}), ConfigError);
+  EXPECT_NO_THROW(p.allow_only({"gain", "role"}));
+}
+
+}  // namespace
+}  // namespace hcosim::rt

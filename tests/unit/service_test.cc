@@ -1,0 +1,110 @@
+#include <chrono>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "service.h"
+
+namespace hcosim::rt {
+namespace {
+
+// Every in-process DDS test gets its own domain so ctest -j stays safe.
+constexpr int kDomain = 151;
+
+Options options(double rate, double duration) {
+  Options o;
+  o.name = "unit";
+  o.domain = kDomain;
+  o.rate_hz = rate;
+  o.step_s = 1.0 / rate;
+  o.duration_s = duration;
+  o.qos_file = default_qos_file();
+  return o;
+}
+
+std::vector<char*> argv_of(std::vector<std::string>& args) {
+  std::vector<char*> v;
+  for (auto& a : args) v.push_back(a.data());
+  return v;
+}
+
+TEST(Options, ParsesAndDefaultsTheStep) {
+  std::vector<std::string> args = {"svc", "--name", "a", "--rate", "250", "--domain", "9", "--mode", "lockstep"};
+  auto v = argv_of(args);
+  const Options o = parse_options(int(v.size()), v.data());
+  EXPECT_EQ(o.name, "a");
+  EXPECT_EQ(o.domain, 9);
+  EXPECT_EQ(o.mode, Mode::kLockstep);
+  EXPECT_DOUBLE_EQ(o.step_s, 0.004);
+}
+
+TEST(Options, RefusesMissingAndMalformedValues) {
+  for (std::vector<std::string> args : std::vector<std::vector<std::string>>{
+           {"svc", "--rate", "100"},
+           {"svc", "--name", "a"},
+           {"svc", "--name", "a", "--rate", "fast"},
+           {"svc", "--name", "a", "--rate", "10", "--bogus", "1"},
+           {"svc", "--name", "a", "--rate"}}) {
+    auto v = argv_of(args);
+    EXPECT_THROW(parse_options(int(v.size()), v.data()), std::invalid_argument) << args.back();
+  }
+}
+
+TEST(Service, RateMustDivideTheBaseStep) {
+  Options o = options(300, 0);
+  o.step_s = 0.001;
+  EXPECT_THROW(Service s(o), std::invalid_argument);
+}
+
+TEST(Participant, RefusesABadDomainAndQosFile) {
+  EXPECT_THROW(Participant(233, "x"), std::runtime_error);
+  EXPECT_THROW(Participant(kDomain, "x", "/nonexistent.xml"), std::runtime_error);
+}
+
+TEST(Service, RealtimeRunStopsAtTheDurationWithConsecutiveSteps) {
+  Service svc(options(200, 0.1));
+  std::vector<std::uint64_t> steps;
+  EXPECT_EQ(svc.run([&](const Tick& t) { steps.push_back(t.step); }), 0);
+  ASSERT_GE(steps.size(), 5u);
+  EXPECT_LE(steps.size(), 20u);
+  EXPECT_EQ(steps.front(), 0u);
+  for (std::size_t i = 1; i < steps.size(); ++i) EXPECT_GT(steps[i], steps[i - 1]);
+}
+
+TEST(Service, SlowStepsAreCountedAsOverrunsAndSkipped) {
+  Service svc(options(100, 0.2));
+  std::vector<std::uint64_t> steps;
+  svc.run([&](const Tick& t) {
+    steps.push_back(t.step);
+    std::this_thread::sleep_for(std::chrono::milliseconds(25));
+  });
+  // 25 ms steps at 100 Hz: each one overruns, and the missed ticks are skipped, not queued.
+  ASSERT_GE(steps.size(), 2u);
+  EXPECT_LE(steps.size(), 9u);
+  EXPECT_GE(steps[1] - steps[0], 2u);
+}
+
+TEST(Service, RejectedSamplesAreCountedNotDelivered) {
+  Service svc(options(100, 0));
+  Reader<HapticState> reader = svc.reader<HapticState>();
+  Writer<HapticState> writer(svc.participant());
+  // Same participant: intraprocess delivery, still through validation.
+  const std::int64_t deadline = mono_ns() + 5'000'000'000;
+  while (writer.matched() < 1 && mono_ns() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  HapticState bad;
+  bad.orientation().w(1);
+  bad.position().y(std::nan(""));
+  writer.write(bad);
+  std::size_t admitted = 0;
+  ASSERT_TRUE(reader.wait(std::chrono::seconds(5)));
+  admitted += reader.take([](const HapticState&) {});
+  HapticState good;
+  good.orientation().w(1);
+  writer.write(good);
+  ASSERT_TRUE(reader.wait(std::chrono::seconds(5)));
+  admitted += reader.take([](const HapticState&) {});
+  EXPECT_EQ(admitted, 1u);
+}
+
+}  // namespace
+}  // namespace hcosim::rt

@@ -1,0 +1,37 @@
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "stats.h"
+
+namespace hcosim::rt {
+namespace {
+
+TEST(Window, NearestRankPercentiles) {
+  Window w(1000);
+  for (int i = 100; i >= 1; --i) w.add(i);
+  EXPECT_EQ(w.percentile(0.5), 50);
+  EXPECT_EQ(w.percentile(0.99), 99);
+  EXPECT_EQ(w.percentile(1.0), 100);
+  EXPECT_EQ(w.percentile(0.0), 1);
+}
+
+TEST(Window, KeepsOnlyTheLatestValues) {
+  Window w(4);
+  for (int i = 1; i <= 10; ++i) w.add(i);
+  EXPECT_EQ(w.size(), 4u);
+  EXPECT_EQ(w.percentile(0.0), 7);
+  EXPECT_EQ(w.percentile(1.0), 10);
+}
+
+TEST(Window, EmptyAndClearedAreNaN) {
+  Window w(4);
+  EXPECT_TRUE(std::isnan(w.percentile(0.5)));
+  w.add(3);
+  w.clear();
+  EXPECT_TRUE(std::isnan(w.percentile(0.5)));
+  EXPECT_THROW(Window(0), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace hcosim::rt

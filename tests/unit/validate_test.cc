@@ -1,0 +1,98 @@
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "validate.h"
+
+namespace hcosim {
+namespace {
+
+HapticState good_state() {
+  HapticState s;
+  s.device("omni");
+  s.orientation().w(1.0);
+  s.position().x(0.02);
+  return s;
+}
+
+TEST(Validate, AdmitsAGoodHapticState) { EXPECT_FALSE(validate(good_state())); }
+
+TEST(Validate, NamesTheNaNField) {
+  HapticState s = good_state();
+  s.velocity().y(std::nan(""));
+  const auto p = validate(s);
+  ASSERT_TRUE(p);
+  EXPECT_EQ(*p, "velocity.y is NaN");
+}
+
+TEST(Validate, RefusesInfAndAbsurdPositions) {
+  HapticState s = good_state();
+  s.position().z(std::numeric_limits<double>::infinity());
+  EXPECT_EQ(validate(s).value_or(""), "position.z is +Inf");
+  s.position().z(1e6);
+  EXPECT_EQ(validate(s).value_or(""), "position.z = 1e+06 exceeds 10");
+}
+
+TEST(Validate, RefusesANonUnitQuaternion) {
+  HapticState s = good_state();
+  s.orientation().w(0.0);
+  EXPECT_TRUE(validate(s));
+}
+
+TEST(Validate, ForceFeedbackBounds) {
+  ForceFeedback f;
+  f.force().x(3.0);
+  EXPECT_FALSE(validate(f));
+  f.force().x(kMaxForceN * 2);
+  EXPECT_TRUE(validate(f));
+  f.force().x(1.0);
+  f.penetration_m(-0.001);
+  EXPECT_EQ(validate(f).value_or(""), "penetration_m is negative");
+}
+
+TEST(Validate, MeshSizesMustAgree) {
+  DeformedMesh m;
+  m.positions() = {0, 0, 0, 1, 1, 1};
+  EXPECT_FALSE(validate(m));
+  m.normals() = {0, 0, 1};
+  EXPECT_EQ(validate(m).value_or(""), "normals and positions differ in length");
+  m.normals().clear();
+  m.positions().push_back(2);
+  EXPECT_TRUE(validate(m));
+  m.positions() = {0, std::nanf(""), 0};
+  EXPECT_EQ(validate(m).value_or(""), "positions[1] = NaN");
+}
+
+TEST(Validate, TopologyIndicesStayInRange) {
+  MeshTopology t;
+  t.vertex_count(3);
+  t.triangles() = {0, 1, 2};
+  EXPECT_FALSE(validate(t));
+  t.triangles() = {0, 1, 3};
+  EXPECT_EQ(validate(t).value_or(""), "triangles[2] = 3 is not below vertex_count 3");
+}
+
+TEST(Validate, CameraFrameSizeMatchesEncoding) {
+  CameraFrame f;
+  f.width(4);
+  f.height(2);
+  f.encoding("bgr8");
+  f.fx(1), f.fy(1);
+  f.data().assign(24, 0);
+  EXPECT_FALSE(validate(f));
+  f.encoding("mono8");
+  EXPECT_TRUE(validate(f));
+  f.encoding("rgb16");
+  EXPECT_EQ(validate(f).value_or(""), "encoding 'rgb16' is not bgr8 or mono8");
+}
+
+TEST(Validate, ClockTickNeedsAPositiveStep) {
+  ClockTick t;
+  EXPECT_TRUE(validate(t));
+  t.step_ns(1'000'000);
+  EXPECT_FALSE(validate(t));
+}
+
+}  // namespace
+}  // namespace hcosim
