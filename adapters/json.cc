@@ -17,31 +17,23 @@ void Json::separate() {
   }
 }
 
-Json& Json::begin_object() {
+Json& Json::open(char bracket) {
   separate();
-  out_ += '{';
+  out_ += bracket;
   first_.push_back(true);
   return *this;
 }
 
-Json& Json::end_object() {
-  out_ += '}';
+Json& Json::close(char bracket) {
+  out_ += bracket;
   first_.pop_back();
   return *this;
 }
 
-Json& Json::begin_array() {
-  separate();
-  out_ += '[';
-  first_.push_back(true);
-  return *this;
-}
-
-Json& Json::end_array() {
-  out_ += ']';
-  first_.pop_back();
-  return *this;
-}
+Json& Json::begin_object() { return open('{'); }
+Json& Json::end_object() { return close('}'); }
+Json& Json::begin_array() { return open('['); }
+Json& Json::end_array() { return close(']'); }
 
 Json& Json::key(std::string_view k) {
   value(k);
@@ -50,7 +42,8 @@ Json& Json::key(std::string_view k) {
   return *this;
 }
 
-Json& Json::value(double v) {
+template <class F>
+Json& Json::number(F v) {
   if (!std::isfinite(v)) return null();
   separate();
   char buf[32];
@@ -59,14 +52,8 @@ Json& Json::value(double v) {
   return *this;
 }
 
-Json& Json::value(float v) {
-  if (!std::isfinite(v)) return null();
-  separate();
-  char buf[32];
-  auto res = std::to_chars(buf, buf + sizeof buf, v);
-  out_.append(buf, res.ptr);
-  return *this;
-}
+Json& Json::value(double v) { return number(v); }
+Json& Json::value(float v) { return number(v); }
 
 Json& Json::value(std::int64_t v) {
   separate();

@@ -33,6 +33,10 @@ class Json {
 
  private:
   void separate();
+  Json& open(char bracket);
+  Json& close(char bracket);
+  template <class F>
+  Json& number(F v);
   std::string out_;
   std::vector<bool> first_;  // one entry per open container: no element yet
   bool after_key_ = false;

@@ -17,6 +17,12 @@
 
 namespace hcosim::rt {
 
+// A std::chrono duration as Fast DDS's Duration_t.
+inline eprosima::fastrtps::Duration_t to_dds(std::chrono::nanoseconds d) {
+  const auto s = std::chrono::duration_cast<std::chrono::seconds>(d);
+  return eprosima::fastrtps::Duration_t(static_cast<int32_t>(s.count()), static_cast<uint32_t>((d - s).count()));
+}
+
 // Samples refused by validation: how many and the latest reason.
 struct Rejections {
   std::uint64_t count = 0;
@@ -44,11 +50,7 @@ class Writer {
   // written, or `timeout` passes; true if acknowledged. Call before exiting
   // when the last sample matters: deleting the writer drops unsent samples.
   bool wait_acknowledged(std::chrono::nanoseconds timeout) {
-    const auto s = std::chrono::duration_cast<std::chrono::seconds>(timeout);
-    const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(timeout - s);
-    return writer_->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(static_cast<int32_t>(s.count()),
-                                                                           static_cast<uint32_t>(ns.count()))) ==
-           ReturnCode_t::RETCODE_OK;
+    return writer_->wait_for_acknowledgments(to_dds(timeout)) == ReturnCode_t::RETCODE_OK;
   }
 
   // Readers currently matched: zero means an output nobody reads.
@@ -109,10 +111,7 @@ class Reader {
 
   // Blocks until a sample is unread or `timeout` passes; true if one is.
   bool wait(std::chrono::nanoseconds timeout) {
-    const auto s = std::chrono::duration_cast<std::chrono::seconds>(timeout);
-    const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(timeout - s);
-    return reader_->wait_for_unread_message(
-        eprosima::fastrtps::Duration_t(static_cast<int32_t>(s.count()), static_cast<uint32_t>(ns.count())));
+    return reader_->wait_for_unread_message(to_dds(timeout));
   }
 
   // Writers currently matched.
