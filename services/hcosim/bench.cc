@@ -95,7 +95,7 @@ struct Bare {
   }
 };
 
-const eprosima::fastrtps::Duration_t kWait(0, 100'000'000);
+const eprosima::fastrtps::Duration_t kWait = rt::to_dds(std::chrono::milliseconds(100));
 
 int pong_loop(Pong& p, std::int64_t end) {
   HapticState in;
@@ -192,7 +192,7 @@ std::vector<Row> dds_suite(const Context& c) {
     ForceFeedback f;
     SampleInfo info;
     Rtt r = ping(
-        seconds, [&] { return b.reader->wait_for_unread_message(eprosima::fastrtps::Duration_t(0, 10'000'000)); },
+        seconds, [&] { return b.reader->wait_for_unread_message(rt::to_dds(std::chrono::milliseconds(10))); },
         [&](std::uint64_t k) {
           bool hit = false;
           while (b.reader->take_next_sample(&f, &info) == ReturnCode_t::RETCODE_OK)

@@ -60,8 +60,6 @@ class Writer {
     return s.current_count;
   }
 
-  eprosima::fastdds::dds::DataWriter* dds() const { return writer_; }
-
  private:
   Participant& p_;
   eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
@@ -120,8 +118,6 @@ class Reader {
     reader_->get_subscription_matched_status(s);
     return s.current_count;
   }
-
-  eprosima::fastdds::dds::DataReader* dds() const { return reader_; }
 
  private:
   Participant& p_;

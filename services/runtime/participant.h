@@ -46,15 +46,11 @@ class Participant {
   eprosima::fastdds::dds::DomainParticipant* dds() const { return participant_; }
   eprosima::fastdds::dds::Publisher* publisher() const { return publisher_; }
   eprosima::fastdds::dds::Subscriber* subscriber() const { return subscriber_; }
-  int domain() const { return domain_; }
-  const std::string& name() const { return name_; }
 
  private:
   eprosima::fastdds::dds::Topic* make_topic(const char* topic, const char* type,
                                             eprosima::fastdds::dds::TopicDataType* support);
 
-  int domain_;
-  std::string name_;
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;

@@ -107,8 +107,6 @@ Service::Service(Options options)
   heartbeat(0, 0);
 }
 
-Service::~Service() = default;
-
 StepStamp Service::stamp(const Tick& tick) const {
   StepStamp s;
   s.step(tick.step);

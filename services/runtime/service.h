@@ -41,7 +41,6 @@ struct Tick {
 class Service {
  public:
   explicit Service(Options options);
-  ~Service();
 
   // Writer and reader on this service's participant. Readers validate with
   // hcosim::validate and count refusals in this service's status.
