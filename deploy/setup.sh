@@ -3,11 +3,12 @@
 # Idempotent: a second run with everything present only queries dpkg (well under a second).
 set -euo pipefail
 
+# libqhull-dev: the mujoco CMake package names its include directory.
 packages=(
   build-essential cmake ninja-build ccache pkg-config
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
   libeigen3-dev libopencv-dev libopencv-contrib-dev libapriltag-dev
-  libmujoco-dev libyaml-cpp-dev googletest libgtest-dev libbenchmark-dev
+  libmujoco-dev libqhull-dev libyaml-cpp-dev googletest libgtest-dev libbenchmark-dev
   cyclonedds-dev cyclonedds-tools
 )
 

@@ -1,0 +1,56 @@
+// Forces, energy and their derivatives for a lattice (000 eq 8-13, 001 eq 2).
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "massspring/lattice.h"
+
+namespace hcosim::massspring {
+
+// External point force on one mass, e.g. the haptic stylus at the contacted
+// vertex (000 §2.2); it reaches the rest of the object through the springs.
+struct PointForce {
+  int mass = 0;
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();  // N, world frame
+};
+
+// Unit vector from mass i to mass j of `s`. Below 1e-12 m the current
+// direction is undefined; the rest direction is used so that a collapsed
+// lattice expands the way it was built (zero for zero-length springs).
+Eigen::Vector3d spring_direction(const Lattice& lattice, const Spring& s, const Eigen::Matrix3Xd& x, double* length);
+
+// Adds to f (3 x n, N) the forces of `springs` (indices into
+// lattice.springs) on both their ends, and for `masses` the drag, gravity
+// and point forces. Forces on anchored masses are computed but unused.
+void add_forces(const Lattice& lattice, const std::vector<int>& springs, const std::vector<int>& masses,
+                const std::vector<PointForce>& loads, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
+                Eigen::Matrix3Xd& f);
+
+struct Energy {
+  double kinetic = 0;  // J
+  double elastic = 0;  // J, springs
+  double gravity = 0;  // J, relative to the rest configuration: -m g . (x - rest)
+  double total() const { return kinetic + elastic + gravity; }
+};
+Energy energy(const Lattice& lattice, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v);
+
+// Total linear momentum (kg m/s) of the masses that are not anchored.
+Eigen::Vector3d momentum(const Lattice& lattice, const Eigen::Matrix3Xd& v);
+
+// The linearised implicit Euler matrix M + h C + h^2 K over `masses` (3 rows
+// each, in that order; `slot[i]` is mass i's position in `masses` or -1 for
+// a mass held fixed), with K = -df/dx and C = -df/dv at x. The geometric
+// part of K of a compressed spring is dropped so that the matrix stays
+// symmetric positive definite.
+Eigen::SparseMatrix<double> implicit_matrix(const Lattice& lattice, const std::vector<int>& springs,
+                                            const std::vector<int>& masses, const std::vector<int>& slot,
+                                            const Eigen::Matrix3Xd& x, double h);
+
+// K v for the same K (3 x n result), used on the right-hand side.
+void add_stiffness_times(const Lattice& lattice, const std::vector<int>& springs, const Eigen::Matrix3Xd& x,
+                         const Eigen::Matrix3Xd& v, double scale, Eigen::Matrix3Xd& out);
+
+}  // namespace hcosim::massspring
