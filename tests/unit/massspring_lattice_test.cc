@@ -1,0 +1,151 @@
+// Lattice builders, argument checks and the OBJ voxeliser.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "massspring/mesh_lattice.h"
+
+namespace hcosim::massspring {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string throws(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(MassspringLattice, BoxOfSeed001Figure7) {
+  const Lattice one = make_box(10, 10, 10, 0.01, {});
+  EXPECT_EQ(one.size(), 1000);
+  EXPECT_EQ(one.springs.size(), 2700u + 2430u);  // structural + one diagonal per face square
+  EXPECT_EQ(make_box(10, 10, 10, 0.01, {}, Shear::both).springs.size(), 2700u + 4860u);
+  for (const Spring& s : one.springs) EXPECT_NEAR(s.rest, (one.rest.col(s.i) - one.rest.col(s.j)).norm(), 1e-15);
+  EXPECT_NO_THROW(check(one));
+}
+
+TEST(MassspringLattice, SheetAndSemiSphereOfSeed000Figure7) {
+  const Lattice sheet = make_sheet(5, 4, 0.01, {});
+  EXPECT_EQ(sheet.size(), 20);
+  EXPECT_EQ(sheet.springs.size(), 4u * 4 + 5u * 3 + 2u * 4 * 3);
+  EXPECT_EQ(std::count(sheet.anchored.begin(), sheet.anchored.end(), 1), 14);  // the frame
+  const Lattice dome = make_semisphere(4, 12, 0.05, {});
+  EXPECT_EQ(dome.size(), 4 * 12 + 1);
+  EXPECT_EQ(std::count(dome.anchored.begin(), dome.anchored.end(), 1), 12);  // the base ring
+  for (int i = 0; i < dome.size(); ++i) {
+    EXPECT_NEAR(dome.rest.col(i).norm(), 0.05, 1e-12);
+    EXPECT_GE(dome.rest(2, i), -1e-12);
+  }
+  EXPECT_NO_THROW(check(dome));
+}
+
+TEST(MassspringLattice, BadLatticesNameTheElement) {
+  Lattice l = make_box(2, 2, 2, 0.01, {});
+  l.mass[3] = 0;
+  EXPECT_NE(throws([&] { check(l); }).find("mass 3"), std::string::npos);
+  l = make_box(2, 2, 2, 0.01, {});
+  l.springs[4].j = 99;
+  EXPECT_NE(throws([&] { check(l); }).find("spring 4"), std::string::npos);
+  l = make_box(2, 2, 2, 0.01, {});
+  l.springs[2].k = NAN;
+  EXPECT_NE(throws([&] { check(l); }).find("spring 2"), std::string::npos);
+  EXPECT_NE(throws([] { make_box(1, 2, 2, 0.01, {}); }).find("2 x 2 x 2"), std::string::npos);
+  EXPECT_NE(throws([] { make_sheet(3, 3, -1, {}); }).find("spacing"), std::string::npos);
+}
+
+class MeshFiles : public ::testing::Test {
+ protected:
+  fs::path dir = fs::temp_directory_path() / ("hcosim_obj_" + std::to_string(::getpid()));
+  void SetUp() override { fs::create_directories(dir); }
+  void TearDown() override { fs::remove_all(dir); }
+  std::string write(const std::string& name, const std::string& text) {
+    std::ofstream(dir / name) << text;
+    return (dir / name).string();
+  }
+};
+
+// An axis-aligned cube [0, s]^3 as quads, with 'v//n' style indices.
+std::string cube_obj(double s) {
+  std::ostringstream o;
+  for (int k = 0; k < 8; ++k) o << "v " << s * (k & 1) << " " << s * ((k >> 1) & 1) << " " << s * (k >> 2) << "\n";
+  o << "# six faces, outward\nf 1//1 3//1 4//1 2//1\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+  return o.str();
+}
+
+// A UV sphere of radius r: rings x segments, closed at both poles.
+std::string sphere_obj(double r, int rings, int segs) {
+  std::ostringstream o;
+  o << "v 0 0 " << r << "\n";
+  for (int i = 1; i < rings; ++i)
+    for (int j = 0; j < segs; ++j) {
+      const double th = M_PI * i / rings, ph = 2 * M_PI * j / segs;
+      o << "v " << r * std::sin(th) * std::cos(ph) << " " << r * std::sin(th) * std::sin(ph) << " " << r * std::cos(th) << "\n";
+    }
+  o << "v 0 0 " << -r << "\n";
+  const int south = 2 + (rings - 1) * segs;
+  auto id = [segs](int i, int j) { return 2 + (i - 1) * segs + (j % segs); };
+  for (int j = 0; j < segs; ++j) o << "f 1 " << id(1, j) << " " << id(1, j + 1) << "\n";
+  for (int i = 1; i + 1 < rings; ++i)
+    for (int j = 0; j < segs; ++j)
+      o << "f " << id(i, j) << " " << id(i + 1, j) << " " << id(i + 1, j + 1) << " " << id(i, j + 1) << "\n";
+  for (int j = 0; j < segs; ++j) o << "f " << south << " " << id(rings - 1, j + 1) << " " << id(rings - 1, j) << "\n";
+  return o.str();
+}
+
+TEST_F(MeshFiles, VoxelisedCubeIsTheBox) {
+  const Lattice l = make_from_mesh(read_obj(write("cube.obj", cube_obj(0.1))), 0.01, {});
+  const Lattice box = make_box(11, 11, 11, 0.01, {});
+  EXPECT_EQ(l.size(), box.size());
+  EXPECT_EQ(l.springs.size(), box.springs.size());
+}
+
+TEST_F(MeshFiles, VoxelisedSphereHasTheSphereVolume) {
+  const double r = 0.05, h = 0.005;
+  const Lattice l = make_from_mesh(read_obj(write("sphere.obj", sphere_obj(r, 24, 32))), h, {});
+  // Masses sit on the corners of inside cells: about (2r/h + 1)^3 pi / 6.
+  const double expect = M_PI / 6 * std::pow(2 * r / h + 1, 3);
+  EXPECT_NEAR(l.size(), expect, 0.08 * expect);
+  for (int i = 0; i < l.size(); ++i) EXPECT_LT(l.rest.col(i).norm(), r + 1.8 * h);
+}
+
+TEST_F(MeshFiles, DuplicateVerticesAreWelded) {
+  // The cube with every face carrying its own copy of its corners.
+  std::ostringstream o;
+  const int faces[6][4] = {{1, 3, 4, 2}, {5, 6, 8, 7}, {1, 2, 6, 5}, {3, 7, 8, 4}, {1, 5, 7, 3}, {2, 4, 8, 6}};
+  for (int f = 0; f < 6; ++f) {
+    for (int c = 0; c < 4; ++c) {
+      const int k = faces[f][c] - 1;
+      o << "v " << 0.1 * (k & 1) << " " << 0.1 * ((k >> 1) & 1) << " " << 0.1 * (k >> 2) << "\n";
+    }
+    o << "f -4 -3 -2 -1\n";
+  }
+  TriangleMesh mesh = read_obj(write("soup.obj", o.str()));
+  EXPECT_EQ(mesh.vertices.cols(), 24);
+  EXPECT_EQ(weld(mesh, 1e-9), 16);
+  EXPECT_EQ(make_from_mesh(read_obj(write("soup.obj", o.str())), 0.01, {}).size(), 1331);
+}
+
+TEST_F(MeshFiles, ErrorsNameTheFileAndLine) {
+  EXPECT_NE(throws([&] { read_obj(write("a.obj", "v 0 0 0\nv 1 0 0\nv 0 1\n")); }).find("a.obj:3: a vertex needs three numbers"),
+            std::string::npos);
+  EXPECT_NE(throws([&] { read_obj(write("b.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n")); }).find("b.obj:4: vertex index 7"),
+            std::string::npos);
+  EXPECT_NE(throws([&] { read_obj(write("c.obj", "v 0 0 0\nf 1 x 2\n")); }).find("c.obj:2: 'x'"), std::string::npos);
+  EXPECT_NE(throws([&] { read_obj((dir / "missing.obj").string()); }).find("cannot open"), std::string::npos);
+  // An open box (top face missing) is refused before voxelising.
+  std::string open = cube_obj(0.1);
+  open = open.substr(0, open.rfind("f 2 4 8 6"));
+  EXPECT_NE(throws([&] { make_from_mesh(read_obj(write("open.obj", open)), 0.01, {}); }).find("not closed"),
+            std::string::npos);
+  EXPECT_NE(throws([&] { make_from_mesh(read_obj(write("tiny.obj", cube_obj(0.1))), 0.5, {}); }).find("no cell"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace hcosim::massspring
