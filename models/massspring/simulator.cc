@@ -47,6 +47,7 @@ struct Simulator::Impl {
   std::vector<std::uint8_t> spring_mark, touch_mark, keep;
 
   Eigen::Matrix3Xd f, a, x0, v0, sx, sv;      // scratch, 3 x n
+  Eigen::Matrix3Xd bx, bv;                    // the step's starting point, per simulated mass
 
   // implicit_euler
   Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg;
@@ -343,7 +344,8 @@ StepInfo Simulator::step(State& s, const std::vector<PointForce>& loads) {
   }
   m.select(s, loads);
   // Backup of what the step changes, restored if it fails.
-  Eigen::Matrix3Xd bx(3, m.masses.size()), bv(3, m.masses.size());
+  Eigen::Matrix3Xd &bx = m.bx, &bv = m.bv;
+  bx.resize(3, m.masses.size()), bv.resize(3, m.masses.size());
   for (std::size_t k = 0; k < m.masses.size(); ++k) bx.col(k) = s.x.col(m.masses[k]), bv.col(k) = s.v.col(m.masses[k]);
   StepInfo info;
   info.substeps = m.substeps;

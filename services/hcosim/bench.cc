@@ -17,6 +17,7 @@
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
+#include "bench.h"
 #include "cli.h"
 #include "json.h"
 #include "service.h"
@@ -25,29 +26,6 @@ namespace fs = std::filesystem;
 
 namespace hcosim::cli {
 namespace {
-
-using Value = std::variant<double, std::string>;
-
-struct Row {
-  std::string name;
-  std::vector<std::pair<std::string, Value>> params;
-  std::vector<std::pair<std::string, double>> metrics;
-};
-
-struct Context {
-  bool quick = false;
-  int domain = 0;
-};
-
-struct Suite {
-  const char* name;
-  const char* what;
-  std::function<std::vector<Row>(const Context&)> run;
-};
-
-void progress(const std::string& line) {
-  std::cerr << "bench: " << line << std::endl;
-}
 
 // ---- dds: 1 kHz HapticState -> ForceFeedback round trip between processes.
 
@@ -173,7 +151,7 @@ Row rtt_row(const std::string& impl, const Rtt& r) {
   return row;
 }
 
-std::vector<Row> dds_suite(const Context& c) {
+std::vector<Row> dds_rows(const Context& c) {
   const double seconds = c.quick ? 5 : 30;
   std::vector<Row> rows;
   // Bare first, then hcosim, in the same run: only their ratio is meaningful.
@@ -237,7 +215,8 @@ std::vector<Row> dds_suite(const Context& c) {
 const std::vector<Suite>& suites() {
   static const std::vector<Suite> all = {
       {"dds", "1 kHz HapticState/ForceFeedback round trip between two processes: hcosim runtime vs bare Fast DDS",
-       dds_suite},
+       dds_rows},
+      massspring_suite(),
   };
   return all;
 }
@@ -316,6 +295,7 @@ int bench(const std::vector<std::string>& argv) {
   c.quick = a.switches.count("--quick") > 0;
   // Its own domain unless told: a benchmark must not hear a running deployment.
   c.domain = a.has("--domain") ? domain_of(a) : 200 + int(getpid() % 30);
+  c.out = dir;
   for (const Suite* s : chosen) write_report(dir, *s, s->run(c));
   return 0;
 }

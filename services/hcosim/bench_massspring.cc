@@ -1,0 +1,273 @@
+// bench massspring: every integrator, with and without adaptive active
+// masses, and MuJoCo 2.2.2 on the same lattices, as time per simulated
+// second against error from a converged reference.
+//
+// Scene: a lattice pressed at one mass for 0.1 s, then released; 0.2 s are
+// simulated and the positions sampled every 20 ms. rel_error is the
+// root-sum-square distance of those samples from the reference's, over
+// the reference's root-sum-square displacement. The reference is RK4 on the
+// full model at an eighth of its stable step; the `reference` row reports
+// its own change when that step is halved.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "bench.h"
+#include "massspring/mujoco_lattice.h"
+#include "massspring/simulator.h"
+#include "plot.h"
+
+namespace hcosim::cli {
+namespace {
+
+namespace ms = hcosim::massspring;
+
+constexpr double kDuration = 0.2, kPress = 0.1, kSample = 0.02;  // s
+
+struct Scene {
+  std::string name;  // e.g. box1000
+  std::string shape;
+  ms::Lattice lattice;
+  int contact = 0;
+  Eigen::Vector3d force;
+};
+
+// n^3 masses 1 cm apart, 1 g each, 50 N/m springs, air friction; the floor
+// is anchored and the middle of the top face is pressed with 0.5 N.
+Scene box(int n) {
+  ms::Material m;
+  m.mass = 1e-3, m.k = 50, m.drag = 5e-3;
+  Scene s{"box" + std::to_string(n * n * n), "box", ms::make_box(n, n, n, 0.01, m), 0, {0, 0, -0.5}};
+  ms::anchor_where(s.lattice, [](const Eigen::Vector3d& p) { return p.z() < 1e-9; });
+  s.contact = n / 2 + n * (n / 2 + n * (n - 1));
+  return s;
+}
+
+// Seed 000's semi-sphere, radius 10 cm, pressed at its pole with 0.05 N.
+Scene dome(int rings, int segments) {
+  ms::Material m;
+  m.mass = 1e-3, m.k = 50, m.drag = 5e-3;
+  ms::Lattice l = ms::make_semisphere(rings, segments, 0.1, m);
+  const int pole = l.size() - 1;
+  return {"dome" + std::to_string(l.size()), "semisphere", std::move(l), pole, {0, 0, -0.05}};
+}
+
+struct Trace {
+  std::vector<Eigen::Matrix3Xd> samples;
+  double wall_s = 0;
+  double simulated = 0;  // mean fraction of masses integrated per step
+  int substeps = 1;
+};
+
+int steps_of(double dt) { return int(std::lround(kDuration / dt)); }
+
+// Steps `step(k, loaded)` over the scene's timeline, sampling `positions()`.
+template <class Step, class Positions>
+Trace timeline(double dt, Step&& step, Positions&& positions) {
+  Trace t;
+  const int n = steps_of(dt), every = int(std::lround(kSample / dt));
+  double wall = 0;
+  for (int k = 0; k < n; ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
+    step(k * dt < kPress - 1e-12);
+    wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if ((k + 1) % every == 0) t.samples.push_back(positions());
+  }
+  t.wall_s = wall;
+  return t;
+}
+
+Trace run_ours(const Scene& sc, const ms::Options& o) {
+  ms::Simulator sim(sc.lattice, o);
+  ms::State s = ms::rest_state(sc.lattice);
+  const std::vector<ms::PointForce> press{{sc.contact, sc.force}}, none;
+  double simulated = 0;
+  Trace t = timeline(
+      o.dt, [&](bool loaded) { simulated += sim.step(s, loaded ? press : none).simulated; }, [&] { return s.x; });
+  t.simulated = simulated / steps_of(o.dt) / sc.lattice.size();
+  t.substeps = sim.substeps();
+  return t;
+}
+
+Trace run_mujoco(const Scene& sc, double dt, const char* integrator) {
+  ms::MujocoLattice mj(sc.lattice, dt, integrator);
+  const std::vector<ms::PointForce> press{{sc.contact, sc.force}}, none;
+  Trace t = timeline(dt, [&](bool loaded) { mj.step(loaded ? press : none); }, [&] { return mj.positions(); });
+  t.simulated = 1;
+  return t;
+}
+
+double rel_error(const Scene& sc, const Trace& got, const Trace& ref) {
+  double num = 0, den = 0;
+  for (std::size_t i = 0; i < ref.samples.size(); ++i) {
+    num += (got.samples[i] - ref.samples[i]).squaredNorm();
+    den += (ref.samples[i] - sc.lattice.rest).squaredNorm();
+  }
+  return std::sqrt(num / den);
+}
+
+std::string fmt(double v) {
+  std::ostringstream o;
+  o << v;
+  return o.str();
+}
+std::string fmt_value(double v) { return fmt(v); }
+std::string fmt_value(const std::string& v) { return v; }
+
+// Median wall time over `reps` runs (one if a run takes over 2 s).
+template <class Run>
+Trace measure(Run&& run, int reps) {
+  Trace first = run();
+  if (reps <= 1 || first.wall_s > 2) return first;
+  std::vector<double> walls{first.wall_s};
+  for (int r = 1; r < reps; ++r) walls.push_back(run().wall_s);
+  std::sort(walls.begin(), walls.end());
+  first.wall_s = walls[walls.size() / 2];
+  return first;
+}
+
+struct Config {
+  ms::Integrator integrator;
+  double dt, threshold;
+};
+
+std::vector<Row> scene_rows(const Scene& sc, const Context& c, std::vector<Series>& plot) {
+  const int reps = c.quick ? 1 : 3;
+  const double budget_s = c.quick ? 10 : 90;  // longest single run we start
+  std::vector<Row> rows;
+  const ms::Spectrum spec = ms::bound_spectrum(sc.lattice);
+  const double stable = ms::stable_step(ms::Integrator::rk4, spec);
+  const double ref_dt = kSample / std::ceil(kSample / (stable / 8));
+  progress(sc.name + ": reference, RK4 at dt " + fmt(ref_dt) + " s and half that");
+  ms::Options ro;
+  ro.integrator = ms::Integrator::rk4;
+  ro.dt = ref_dt;
+  const Trace ref = run_ours(sc, ro);
+  ro.dt = ref_dt / 2;
+  const Trace finer = run_ours(sc, ro);
+  rows.push_back({"reference",
+                  {{"lattice", sc.name}, {"shape", sc.shape}, {"masses", double(sc.lattice.size())},
+                   {"springs", double(sc.lattice.springs.size())}, {"integrator", std::string("rk4")}, {"dt", ref_dt}},
+                  {{"ref_self_error", rel_error(sc, finer, ref)}, {"omega_max_rad_s", spec.omega_max}}});
+
+  std::vector<Config> configs;
+  const std::vector<double> explicit_dt = c.quick ? std::vector<double>{1e-3, 5e-4} : std::vector<double>{1e-3, 5e-4, 2.5e-4};
+  const std::vector<double> implicit_dt = c.quick ? std::vector<double>{4e-3, 1e-3} : std::vector<double>{4e-3, 2e-3, 1e-3, 5e-4};
+  for (auto in : {ms::Integrator::symplectic_euler, ms::Integrator::velocity_verlet, ms::Integrator::rk4})
+    for (double dt : explicit_dt) configs.push_back({in, dt, 0});
+  for (auto in : {ms::Integrator::implicit_euler, ms::Integrator::local_global})
+    for (double dt : implicit_dt) configs.push_back({in, dt, 0});
+  for (double th : c.quick ? std::vector<double>{1e-8} : std::vector<double>{1e-10, 1e-8, 1e-6}) {
+    configs.push_back({ms::Integrator::symplectic_euler, 5e-4, th});
+    configs.push_back({ms::Integrator::velocity_verlet, 1e-3, th});
+  }
+  std::map<std::string, Series> series;
+  auto add_row = [&](const std::string& label, const std::string& integrator, double dt, double threshold,
+                     const Trace& t) {
+    Row r{"step",
+          {{"lattice", sc.name}, {"shape", sc.shape}, {"masses", double(sc.lattice.size())},
+           {"integrator", integrator}, {"dt", dt}, {"threshold", threshold}},
+          {{"ms_per_sim_s", 1e3 * t.wall_s / kDuration},
+           {"rel_error", rel_error(sc, t, ref)},
+           {"simulated_fraction", t.simulated},
+           {"substeps", double(t.substeps)}}};
+    rows.push_back(r);
+    Series& s = series[label];
+    s.label = label;
+    s.x.push_back(r.metrics[0].second);
+    s.y.push_back(r.metrics[1].second);
+  };
+  for (const Config& cf : configs) {
+    ms::Options o;
+    o.integrator = cf.integrator;
+    o.dt = cf.dt;
+    o.threshold = cf.threshold;
+    const std::string label = std::string(ms::name(cf.integrator)) + (cf.threshold > 0 ? " adaptive" : "");
+    // A few steps first: skip what would take longer than the budget.
+    {
+      ms::Simulator probe(sc.lattice, o);
+      ms::State s = ms::rest_state(sc.lattice);
+      const auto t0 = std::chrono::steady_clock::now();
+      for (int k = 0; k < 3; ++k) probe.step(s, {{sc.contact, sc.force}});
+      const double per_step = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / 3;
+      if (per_step * steps_of(cf.dt) > budget_s) {
+        progress(sc.name + ": skip " + label + " dt " + fmt(cf.dt) + ": about " + fmt(per_step * steps_of(cf.dt)) +
+                 " s, over the " + fmt(budget_s) + " s budget");
+        continue;
+      }
+    }
+    progress(sc.name + ": " + label + " dt " + fmt(cf.dt) + (cf.threshold > 0 ? " threshold " + fmt(cf.threshold) : ""));
+    add_row(label, ms::name(cf.integrator), cf.dt, cf.threshold, measure([&] { return run_ours(sc, o); }, reps));
+  }
+  // MuJoCo on the same lattice, where version 2.2.2 can hold it.
+  const double bytes = ms::MujocoLattice::data_bytes(sc.lattice);
+  const std::size_t first_mujoco = rows.size();
+  if (bytes > 1.9e9) {
+    progress(sc.name + ": skip mujoco: its dense tendon Jacobian needs " + fmt(bytes / 1e9) +
+             " GB, over the 2 GiB int-sized mjData buffer of MuJoCo 2.2.2");
+  } else {
+    for (const char* integrator : {"Euler", "RK4"})
+      for (double dt : explicit_dt) {
+        progress(sc.name + ": mujoco " + integrator + " dt " + fmt(dt));
+        const std::string label = std::string("mujoco ") + integrator;
+        add_row(label, "mujoco_" + std::string(integrator == std::string("RK4") ? "rk4" : "euler"), dt, 0,
+                measure([&] { return run_mujoco(sc, dt, integrator); }, reps));
+      }
+  }
+  // Speed-up at equal or lower error: for each MuJoCo row, our fastest row
+  // whose error is no larger.
+  for (std::size_t m = first_mujoco; m < rows.size(); ++m) {
+    const double mj_ms = rows[m].metrics[0].second, mj_err = rows[m].metrics[1].second;
+    const Row* best = nullptr;
+    for (std::size_t k = 1; k < first_mujoco; ++k)
+      if (rows[k].metrics[1].second <= mj_err && (!best || rows[k].metrics[0].second < best->metrics[0].second))
+        best = &rows[k];
+    if (!best) continue;
+    rows[m].metrics.push_back({"speedup_at_equal_error", mj_ms / best->metrics[0].second});
+    std::string match;
+    for (const auto& [k, v] : best->params)
+      if (k == "integrator" || k == "dt" || k == "threshold")
+        match += (match.empty() ? "" : " ") + k + "=" + std::visit([](const auto& x) { return fmt_value(x); }, v);
+    rows[m].params.push_back({"matched_by", match});
+  }
+  for (auto& [label, s] : series) plot.push_back(s);
+  return rows;
+}
+
+std::vector<Row> massspring_rows(const Context& c) {
+  std::vector<Scene> scenes;
+  if (c.quick) {
+    scenes.push_back(box(6));
+    scenes.push_back(dome(8, 16));
+  } else {
+    scenes.push_back(box(10));
+    scenes.push_back(dome(64, 64));
+    scenes.push_back(box(22));
+    scenes.push_back(box(46));
+  }
+  std::vector<Row> all;
+  for (const Scene& sc : scenes) {
+    std::vector<Series> plot;
+    for (Row& r : scene_rows(sc, c, plot)) all.push_back(std::move(r));
+    const std::string png = (c.out / ("massspring_" + sc.name + ".png")).string();
+    plot_loglog(png,
+                "massspring " + sc.name + " (" + std::to_string(sc.lattice.size()) + " masses, " +
+                    std::to_string(sc.lattice.springs.size()) + " springs)",
+                "ms per simulated s", "relative error", plot);
+    std::cout << "wrote " << png << "\n";
+  }
+  return all;
+}
+
+}  // namespace
+
+Suite massspring_suite() {
+  return {"massspring",
+          "mass-spring behavior model: integrators, adaptive active masses and MuJoCo 2.2.2 on the same lattices, "
+          "ms per simulated s against error from a converged RK4 reference",
+          massspring_rows};
+}
+
+}  // namespace hcosim::cli
