@@ -7,7 +7,8 @@ out=$(timeout 20 "$BIN/hcosim" echo HapticState --count 3 --timeout 15) || fail 
 echo "$out" | grep -q '"device":"probe"' || fail "echo lines lack the device: $out"
 echo "$out" | head -1 | grep -qE '^\{"device":"probe","seq":[0-9]+,"stamp":\{' || fail "not JSON of HapticState: $out"
 
-topics=$(timeout 20 "$BIN/hcosim" topics --wait 2) || fail "topics exited $?"
+# 5 s: discovering a fresh participant takes seconds on a loaded 2-core machine.
+topics=$(timeout 20 "$BIN/hcosim" topics --wait 5) || fail "topics exited $?"
 echo "$topics" | grep -qE '^HapticState +hcosim::HapticState +1 ' || fail "topics misses HapticState: $topics"
 echo "$topics" | grep -qE '^ServiceStatus +hcosim::ServiceStatus' || fail "topics misses ServiceStatus: $topics"
 
