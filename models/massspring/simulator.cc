@@ -1,5 +1,6 @@
 #include "massspring/simulator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -15,17 +16,19 @@ struct Adjacency {
   std::vector<int> start;   // n + 1 offsets into spring / other
   std::vector<int> spring;  // incident spring indices
   std::vector<int> other;   // the other end of each
+  std::vector<double> sign; // +1 where the mass is the spring's first end, else -1
 
   explicit Adjacency(const Lattice& l) : start(l.size() + 1, 0) {
     for (const Spring& s : l.springs) ++start[s.i + 1], ++start[s.j + 1];
     for (int i = 0; i < l.size(); ++i) start[i + 1] += start[i];
     spring.resize(start.back());
     other.resize(start.back());
+    sign.resize(start.back());
     std::vector<int> at(start.begin(), start.end() - 1);
     for (int si = 0; si < int(l.springs.size()); ++si) {
       const Spring& s = l.springs[si];
-      spring[at[s.i]] = si, other[at[s.i]++] = s.j;
-      spring[at[s.j]] = si, other[at[s.j]++] = s.i;
+      spring[at[s.i]] = si, sign[at[s.i]] = 1, other[at[s.i]++] = s.j;
+      spring[at[s.j]] = si, sign[at[s.j]] = -1, other[at[s.j]++] = s.i;
     }
   }
 };
@@ -38,16 +41,28 @@ struct Simulator::Impl {
   double stable = 0;
   int substeps = 1;
   bool adaptive = false;
+  bool dampers = false;             // whether any spring has b > 0
+  std::vector<double> inv_mass;     // 1/kg, 0 for anchored masses
+  std::vector<double> decay, half;  // exact drag decay over a substep and half of one
 
-  // The simulated set of this step: masses integrated, springs acting on
-  // them, every mass those springs touch, and the loads on simulated masses.
-  std::vector<int> masses, springs, touched;
-  std::vector<PointForce> loads;
-  std::vector<int> slot;                       // mass -> index in masses, or -1
-  std::vector<std::uint8_t> spring_mark, touch_mark, keep;
+  // The simulated set, kept up to date as masses activate and retire
+  // rather than rebuilt each step: active masses, every free mass within
+  // one spring of one (`cover` counts the active masses in its closed
+  // neighbourhood), and the springs with at least one simulated end.
+  std::vector<std::uint8_t> active;
+  std::vector<int> cover;
+  std::vector<int> masses, slot;          // simulated masses; mass -> index in masses, or -1
+  std::vector<int> springs, spring_slot;  // their springs; spring -> index in springs, or -1
+  std::vector<std::uint8_t> ends;         // simulated ends of each spring
+  std::vector<int> seen_quiet;            // State::quiet as the last step left it
+  std::vector<PointForce> loads;          // this step's loads on simulated masses
 
-  Eigen::Matrix3Xd f, a, x0, v0, sx, sv;      // scratch, 3 x n
-  Eigen::Matrix3Xd bx, bv;                    // the step's starting point, per simulated mass
+  Eigen::Matrix3Xd f, x0, v0, sx, sv;  // scratch, 3 x n; f of masses outside the set is unused
+  Eigen::Matrix3Xd bx, bv;                // the step's starting point, per simulated mass
+  Eigen::VectorXd elastic;                // J, half the elastic energy of each mass's springs
+  bool elastic_fresh = false;             // whether the last force pass filled `elastic`
+  Eigen::Matrix3Xd spring_force;          // N, per spring, on its first end
+  Eigen::VectorXd spring_elastic;         // J, a quarter of each spring's energy
 
   // implicit_euler
   Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg;
@@ -60,112 +75,222 @@ struct Simulator::Impl {
 
   Impl(Lattice l, const Options& o) : lat(std::move(l)), opt(o), adj(lat) {
     const int n = lat.size();
+    inv_mass.resize(n);
+    for (int i = 0; i < n; ++i) inv_mass[i] = lat.anchored[i] ? 0 : 1 / lat.mass[i];
+    active.assign(n, 0);
+    cover.assign(n, 0);
     slot.assign(n, -1);
-    spring_mark.assign(lat.springs.size(), 0);
-    touch_mark.assign(n, 0);
-    keep.assign(n, 0);
-    for (auto* m : {&f, &a, &x0, &v0, &sx, &sv}) m->setZero(3, n);
+    spring_slot.assign(lat.springs.size(), -1);
+    ends.assign(lat.springs.size(), 0);
+    for (auto* m : {&f, &x0, &v0, &sx, &sv}) m->setZero(3, n);
+    elastic.setZero(n);
+    spring_force.setZero(3, lat.springs.size());
+    spring_elastic.setZero(lat.springs.size());
     adaptive = opt.threshold > 0;
+    for (const Spring& sp : lat.springs) dampers = dampers || sp.b > 0;
+    if (!adaptive) {
+      for (int i = 0; i < n; ++i) enter(i);
+      // In the lattice's order, for the force loop's memory access.
+      std::sort(springs.begin(), springs.end());
+      for (int k = 0; k < int(springs.size()); ++k) spring_slot[springs[k]] = k;
+    }
+  }
+
+  void set_substep(double h) {
+    decay.resize(lat.size()), half.resize(lat.size());
+    for (int i = 0; i < lat.size(); ++i) {
+      decay[i] = std::exp(-h * lat.drag / lat.mass[i]);
+      half[i] = std::exp(-0.5 * h * lat.drag / lat.mass[i]);
+    }
   }
 
   // ---- simulated set
 
-  void select(State& s, const std::vector<PointForce>& in) {
-    for (const PointForce& p : in)
-      if (!lat.anchored[p.mass] && p.force.squaredNorm() > 0) s.quiet[p.mass] = 0;
-    std::vector<int> next;
-    if (!adaptive) {
-      if (masses.empty())
-        for (int i = 0; i < lat.size(); ++i)
-          if (!lat.anchored[i]) next.push_back(i);
-    } else {
-      // Active masses are always simulated ones or newly loaded ones.
-      auto add = [&](int i) {
-        if (!lat.anchored[i] && !keep[i]) keep[i] = 1, next.push_back(i);
-      };
-      std::vector<int> seeds;
-      for (const int i : masses)
-        if (s.quiet[i] < opt.retire_steps) seeds.push_back(i);
-      for (const PointForce& p : in)
-        if (!lat.anchored[p.mass] && s.quiet[p.mass] < opt.retire_steps) seeds.push_back(p.mass);
-      for (const int i : seeds) {
-        add(i);
-        for (int e = adj.start[i]; e < adj.start[i + 1]; ++e) add(adj.other[e]);
-      }
-      // Masses that leave the set stop where they are.
-      for (const int i : masses)
-        if (!keep[i]) s.v.col(i).setZero();
-      for (const int i : next) keep[i] = 0;
+  void enter(int i) {
+    if (lat.anchored[i]) return;
+    slot[i] = int(masses.size()), masses.push_back(i);
+    for (int e = adj.start[i]; e < adj.start[i + 1]; ++e) {
+      const int si = adj.spring[e];
+      if (ends[si]++ == 0) spring_slot[si] = int(springs.size()), springs.push_back(si);
     }
-    if (!next.empty() || adaptive) rebuild(next);
+  }
+
+  // A mass that leaves the set stops where it is.
+  void leave(int i, State& s) {
+    if (lat.anchored[i]) return;
+    const int k = slot[i];
+    masses[k] = masses.back(), slot[masses[k]] = k, masses.pop_back();
+    slot[i] = -1;
+    s.v.col(i).setZero();
+    for (int e = adj.start[i]; e < adj.start[i + 1]; ++e) {
+      const int si = adj.spring[e];
+      if (--ends[si] > 0) continue;
+      const int q = spring_slot[si];
+      springs[q] = springs.back(), spring_slot[springs[q]] = q, springs.pop_back();
+      spring_slot[si] = -1;
+    }
+  }
+
+  void activate(int i) {
+    active[i] = 1;
+    if (cover[i]++ == 0) enter(i);
+    for (int e = adj.start[i]; e < adj.start[i + 1]; ++e)
+      if (cover[adj.other[e]]++ == 0) enter(adj.other[e]);
+  }
+
+  void deactivate(int i, State& s) {
+    active[i] = 0;
+    if (--cover[i] == 0) leave(i, s);
+    for (int e = adj.start[i]; e < adj.start[i + 1]; ++e)
+      if (--cover[adj.other[e]] == 0) leave(adj.other[e], s);
+  }
+
+  // The set for this step: unchanged since the last one unless the caller
+  // edited State::quiet (or passed another state), then rebuilt from it.
+  void select(State& s, const std::vector<PointForce>& in) {
+    if (adaptive) {
+      if (s.quiet != seen_quiet) {
+        leave_all();
+        std::fill(active.begin(), active.end(), 0);
+        std::fill(cover.begin(), cover.end(), 0);
+        for (int i = 0; i < lat.size(); ++i)
+          if (!lat.anchored[i] && s.quiet[i] < opt.retire_steps) activate(i);
+        seen_quiet = s.quiet;
+      }
+      for (const PointForce& p : in)
+        if (!lat.anchored[p.mass] && p.force.squaredNorm() > 0) {
+          s.quiet[p.mass] = seen_quiet[p.mass] = 0;
+          if (!active[p.mass]) activate(p.mass);
+        }
+    }
     loads.clear();
     for (const PointForce& p : in)
       if (slot[p.mass] >= 0) loads.push_back(p);
   }
 
-  void rebuild(std::vector<int>& next) {
+  // Empties the set without touching any state.
+  void leave_all() {
     for (const int i : masses) slot[i] = -1;
-    masses.swap(next);
-    for (int k = 0; k < int(masses.size()); ++k) slot[masses[k]] = k;
-    for (const int si : springs) spring_mark[si] = 0;
-    for (const int i : touched) touch_mark[i] = 0;
-    springs.clear();
-    touched.clear();
-    auto touch = [&](int i) {
-      if (!touch_mark[i]) touch_mark[i] = 1, touched.push_back(i);
-    };
-    for (const int i : masses)
-      for (int e = adj.start[i]; e < adj.start[i + 1]; ++e) {
-        const int si = adj.spring[e];
-        if (!spring_mark[si]) spring_mark[si] = 1, springs.push_back(si);
-        touch(i);
-        touch(adj.other[e]);
-      }
-    for (const int i : masses) touch(i);
+    for (const int si : springs) spring_slot[si] = -1, ends[si] = 0;
+    masses.clear(), springs.clear();
   }
 
-  // Energy bookkeeping of the adaptive model after a step.
-  int retire(State& s) const {
-    int active = 0;
+  // Energy bookkeeping of the adaptive model after a step: a simulated mass
+  // above threshold is active; one below it for retire_steps steps retires.
+  int retire(State& s) {
+    if (!elastic_fresh) spring_energy(s.x);
+    std::vector<int> on, off;
+    int count = 0;
     for (const int i : masses) {
-      double e = 0.5 * lat.mass[i] * s.v.col(i).squaredNorm();
-      for (int k = adj.start[i]; k < adj.start[i + 1]; ++k) {
-        const Spring& sp = lat.springs[adj.spring[k]];
-        const double stretch = (s.x.col(sp.j) - s.x.col(sp.i)).norm() - sp.rest;
-        e += 0.25 * sp.k * stretch * stretch;
+      const double e = 0.5 * lat.mass[i] * s.v.col(i).squaredNorm() + elastic[i];
+      int& q = s.quiet[i];
+      if (e > opt.threshold) {
+        q = 0;
+        if (!active[i]) on.push_back(i);
+      } else if (q < opt.retire_steps && ++q == opt.retire_steps && active[i]) {
+        off.push_back(i);
       }
-      if (e > opt.threshold) s.quiet[i] = 0;
-      else if (s.quiet[i] < opt.retire_steps) ++s.quiet[i];
-      active += s.quiet[i] < opt.retire_steps;
+      seen_quiet[i] = q;
+      count += q < opt.retire_steps;
     }
-    return active;
+    for (const int i : on) activate(i);
+    for (const int i : off) deactivate(i, s);
+    return count;
+  }
+
+  // `elastic` from the springs at x, for integrators without a force pass.
+  void spring_energy(const Eigen::Matrix3Xd& x) {
+    for (const int si : springs) {
+      const Spring& sp = lat.springs[si];
+      const double stretch = (x.col(sp.j) - x.col(sp.i)).norm() - sp.rest;
+      spring_elastic[si] = 0.25 * sp.k * stretch * stretch;
+    }
+    for (const int i : masses) {
+      elastic[i] = 0;
+      for (int k = adj.start[i]; k < adj.start[i + 1]; ++k) elastic[i] += spring_elastic[adj.spring[k]];
+    }
   }
 
   // ---- explicit integrators
 
-  // a = M^-1 f(x, v) on the simulated masses.
-  void accel(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v) {
-    for (const int i : touched) f.col(i).setZero();
-    add_forces(lat, springs, masses, loads, x, v, f);
-    for (const int i : masses) a.col(i) = f.col(i) / lat.mass[i];
+  // f = spring, gravity and point forces on the simulated masses, and drag
+  // if `with_drag`; the adaptive model also gets each mass's elastic energy.
+  void forces(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, bool with_drag) {
+    for (const int i : masses) {
+      f.col(i) = lat.mass[i] * lat.gravity;
+      if (with_drag) f.col(i) -= lat.drag * v.col(i);
+    }
+    for (const PointForce& p : loads) f.col(p.mass) += p.force;
+    if (dampers)
+      adaptive ? spring_forces<true, true>(x, v) : spring_forces<true, false>(x, v);
+    else
+      adaptive ? spring_forces<false, true>(x, v) : spring_forces<false, false>(x, v);
+    elastic_fresh = adaptive;
   }
 
+  // The hot loop of every explicit integrator, on raw column-major arrays.
+  // Each spring's force is computed once, then each mass sums its springs
+  // in the lattice's fixed order, so that the result does not depend on the
+  // order in which masses joined the set. No relative velocity is needed
+  // where no spring has a damper.
+  template <bool kDampers, bool kEnergy>
+  void spring_forces(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v) {
+    const double* X = x.data();
+    const double* V = v.data();
+    double* SF = spring_force.data();
+    double* SE = spring_elastic.data();
+    for (const int si : springs) {
+      const Spring& s = lat.springs[si];
+      const int a = 3 * s.i, b = 3 * s.j;
+      double u[3] = {X[b] - X[a], X[b + 1] - X[a + 1], X[b + 2] - X[a + 2]};
+      double len = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+      if (len > 1e-12) {
+        const double inv = 1 / len;
+        u[0] *= inv, u[1] *= inv, u[2] *= inv;
+      } else {
+        const Eigen::Vector3d d = spring_direction(lat, s, x, &len);
+        u[0] = d.x(), u[1] = d.y(), u[2] = d.z();
+      }
+      const double stretch = len - s.rest;
+      double mag = s.k * stretch;
+      if (kDampers) mag += s.b * (u[0] * (V[b] - V[a]) + u[1] * (V[b + 1] - V[a + 1]) + u[2] * (V[b + 2] - V[a + 2]));
+      SF[3 * si] = mag * u[0], SF[3 * si + 1] = mag * u[1], SF[3 * si + 2] = mag * u[2];
+      if (kEnergy) SE[si] = 0.25 * s.k * stretch * stretch;
+    }
+    double* F = f.data();
+    for (const int i : masses) {
+      double sum[3] = {0, 0, 0}, e = 0;
+      for (int k = adj.start[i]; k < adj.start[i + 1]; ++k) {
+        const int si = adj.spring[k];
+        const double sign = adj.sign[k];
+        sum[0] += sign * SF[3 * si], sum[1] += sign * SF[3 * si + 1], sum[2] += sign * SF[3 * si + 2];
+        if (kEnergy) e += SE[si];
+      }
+      F[3 * i] += sum[0], F[3 * i + 1] += sum[1], F[3 * i + 2] += sum[2];
+      if (kEnergy) elastic[i] = e;
+    }
+  }
+
+  // Symplectic Euler; drag, linear and per mass, is integrated exactly.
   void symplectic_euler(State& s, double h) {
-    accel(s.x, s.v);
+    forces(s.x, s.v, false);
     for (const int i : masses) {
-      s.v.col(i) += h * a.col(i);
+      s.v.col(i) = (s.v.col(i) + h * inv_mass[i] * f.col(i)) * decay[i];
       s.x.col(i) += h * s.v.col(i);
     }
   }
 
+  // Velocity Verlet inside a Strang splitting with the exact drag flow, so
+  // that drag keeps second order; spring dampers act at the half-step velocity.
   void velocity_verlet(State& s, double h) {
-    accel(s.x, s.v);
+    for (const int i : masses) s.v.col(i) *= half[i];
+    forces(s.x, s.v, false);
     for (const int i : masses) {
-      s.v.col(i) += 0.5 * h * a.col(i);
+      s.v.col(i) += 0.5 * h * inv_mass[i] * f.col(i);
       s.x.col(i) += h * s.v.col(i);
     }
-    accel(s.x, s.v);
-    for (const int i : masses) s.v.col(i) += 0.5 * h * a.col(i);
+    forces(s.x, s.v, false);
+    for (const int i : masses) s.v.col(i) = (s.v.col(i) + 0.5 * h * inv_mass[i] * f.col(i)) * half[i];
   }
 
   void rk4(State& s, double h) {
@@ -173,13 +298,13 @@ struct Simulator::Impl {
       x0.col(i) = s.x.col(i), v0.col(i) = s.v.col(i);
       sx.col(i).setZero(), sv.col(i).setZero();
     }
-    static constexpr double weight[4] = {1, 2, 2, 1}, reach[3] = {0.5, 0.5, 1.0};
+    static constexpr double share[4] = {1, 2, 2, 1}, reach[3] = {0.5, 0.5, 1.0};
     for (int stage = 0; stage < 4; ++stage) {
-      accel(s.x, s.v);
+      forces(s.x, s.v, true);
       for (const int i : masses) {
-        const Eigen::Vector3d kx = s.v.col(i), kv = a.col(i);
-        sx.col(i) += weight[stage] * kx;
-        sv.col(i) += weight[stage] * kv;
+        const Eigen::Vector3d kx = s.v.col(i), kv = inv_mass[i] * f.col(i);
+        sx.col(i) += share[stage] * kx;
+        sv.col(i) += share[stage] * kv;
         if (stage < 3) {
           s.x.col(i) = x0.col(i) + reach[stage] * h * kx;
           s.v.col(i) = v0.col(i) + reach[stage] * h * kv;
@@ -196,7 +321,7 @@ struct Simulator::Impl {
 
   int implicit_euler(State& s, double h) {
     const int m = int(masses.size());
-    for (const int i : touched) f.col(i).setZero();
+    for (const int i : masses) f.col(i).setZero();
     add_forces(lat, springs, masses, loads, s.x, s.v, f);
     add_stiffness_times(lat, springs, s.x, s.v, -h, f);
     Eigen::VectorXd b(3 * m);
@@ -250,7 +375,9 @@ struct Simulator::Impl {
     const int m = int(masses.size());
     base.resize(m, 3);
     delta.resize(m, 3);
-    for (const int i : touched) x0.col(i) = s.x.col(i);
+    for (const int i : masses) x0.col(i) = s.x.col(i);
+    // Ends outside the set do not move: their x is their start.
+    auto start = [&](int i) { return slot[i] >= 0 ? x0.col(i) : s.x.col(i); };
     for (int k = 0; k < m; ++k) {
       const int i = masses[k];
       Eigen::Vector3d ext = lat.mass[i] * lat.gravity;
@@ -267,7 +394,7 @@ struct Simulator::Impl {
         const Spring& sp = lat.springs[si];
         double len;
         const Eigen::Vector3d d = -sp.rest * spring_direction(lat, sp, s.x, &len);
-        const Eigen::RowVector3d e = h * h * sp.k * (x0.col(sp.i) - x0.col(sp.j) - d).transpose();
+        const Eigen::RowVector3d e = h * h * sp.k * (start(sp.i) - start(sp.j) - d).transpose();
         if (slot[sp.i] >= 0) rhs.row(slot[sp.i]) -= e;
         if (slot[sp.j] >= 0) rhs.row(slot[sp.j]) += e;
       }
@@ -326,6 +453,7 @@ Simulator::Simulator(Lattice lattice, const Options& o) {
                                   std::to_string(o.max_substeps) + "; use implicit_euler or local_global");
     m.substeps = int(need);
   }
+  m.set_substep(o.dt / m.substeps);
 }
 
 Simulator::~Simulator() = default;
@@ -343,10 +471,16 @@ StepInfo Simulator::step(State& s, const std::vector<PointForce>& loads) {
     if (!p.force.allFinite()) throw std::invalid_argument("massspring: non-finite load on mass " + std::to_string(p.mass));
   }
   m.select(s, loads);
-  // Backup of what the step changes, restored if it fails.
+  // Backup of what the step changes, restored if it fails; whole matrices
+  // when most masses are simulated, as contiguous copies are faster.
+  const bool whole = 2 * m.masses.size() > std::size_t(n);
   Eigen::Matrix3Xd &bx = m.bx, &bv = m.bv;
-  bx.resize(3, m.masses.size()), bv.resize(3, m.masses.size());
-  for (std::size_t k = 0; k < m.masses.size(); ++k) bx.col(k) = s.x.col(m.masses[k]), bv.col(k) = s.v.col(m.masses[k]);
+  if (whole) {
+    bx = s.x, bv = s.v;
+  } else {
+    bx.resize(3, m.masses.size()), bv.resize(3, m.masses.size());
+    for (std::size_t k = 0; k < m.masses.size(); ++k) bx.col(k) = s.x.col(m.masses[k]), bv.col(k) = s.v.col(m.masses[k]);
+  }
   StepInfo info;
   info.substeps = m.substeps;
   const double h = m.opt.dt / m.substeps;
@@ -357,12 +491,17 @@ StepInfo Simulator::step(State& s, const std::vector<PointForce>& loads) {
       case Integrator::implicit_euler: info.solver_iterations += m.implicit_euler(s, h); break;
       case Integrator::local_global: m.local_global(s, h); break;
     }
-  for (const int i : m.masses)
-    if (!s.x.col(i).allFinite() || !s.v.col(i).allFinite()) {
-      for (std::size_t k = 0; k < m.masses.size(); ++k) s.x.col(m.masses[k]) = bx.col(k), s.v.col(m.masses[k]) = bv.col(k);
-      throw std::runtime_error(std::string("massspring: ") + name(m.opt.integrator) + " produced a non-finite state at mass " +
-                               std::to_string(i) + ", t = " + fmt(s.t) + " s; the state is left as before the step");
-    }
+  if (!(whole && s.x.allFinite() && s.v.allFinite()))
+    for (const int i : m.masses)
+      if (!s.x.col(i).allFinite() || !s.v.col(i).allFinite()) {
+        if (whole) {
+          s.x = bx, s.v = bv;
+        } else {
+          for (std::size_t k = 0; k < m.masses.size(); ++k) s.x.col(m.masses[k]) = bx.col(k), s.v.col(m.masses[k]) = bv.col(k);
+        }
+        throw std::runtime_error(std::string("massspring: ") + name(m.opt.integrator) + " produced a non-finite state at mass " +
+                                 std::to_string(i) + ", t = " + fmt(s.t) + " s; the state is left as before the step");
+      }
   s.t += m.opt.dt;
   info.simulated = int(m.masses.size());
   info.active = m.adaptive ? m.retire(s) : info.simulated;

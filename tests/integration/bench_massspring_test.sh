@@ -8,12 +8,16 @@ f="$WORK/b/massspring.json"
 [ -s "$f" ] || fail "no $f"
 num='-?[0-9][0-9.e+-]*'
 for lattice in box216 dome129; do
-  for integrator in symplectic_euler velocity_verlet rk4 implicit_euler local_global mujoco_euler mujoco_rk4; do
+  for integrator in symplectic_euler velocity_verlet rk4 implicit_euler local_global mujoco; do
     grep -qE "\"params\":\{\"lattice\":\"$lattice\",[^}]*\"integrator\":\"$integrator\",[^}]*\},\"metrics\":\{\"ms_per_sim_s\":$num,\"rel_error\":$num," "$f" ||
       fail "no $lattice $integrator row with numeric ms_per_sim_s and rel_error"
   done
+  for variant in Euler RK4; do
+    grep -qE "\"lattice\":\"$lattice\",[^}]*\"integrator\":\"mujoco\",[^}]*\"mujoco_integrator\":\"$variant\"" "$f" ||
+      fail "no $lattice row for MuJoCo's $variant"
+  done
   grep -qE "\"lattice\":\"$lattice\",[^}]*\"threshold\":1e-08\}" "$f" || fail "no adaptive row for $lattice"
-  grep -qE "\"lattice\":\"$lattice\",[^}]*\"integrator\":\"mujoco_euler\",[^}]*\"matched_by\":\"[^\"]+\"\},\"metrics\":\{[^}]*\"speedup_at_equal_error\":$num" "$f" ||
+  grep -qE "\"lattice\":\"$lattice\",[^}]*\"mujoco_integrator\":\"Euler\",\"matched_by\":\"[^\"]+\"\},\"metrics\":\{[^}]*\"speedup_at_equal_error\":$num" "$f" ||
     fail "no speed-up at equal error for $lattice"
   grep -qE "\{\"name\":\"reference\",\"params\":\{\"lattice\":\"$lattice\"[^}]*\},\"metrics\":\{\"ref_self_error\":$num" "$f" ||
     fail "no reference row for $lattice"
