@@ -8,19 +8,14 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "config.h"
+
 namespace hcosim::rt {
 
-// A configuration problem, with its message already as "FILE:LINE:COL: what".
-class ConfigError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
-// "FILE:LINE:COL: what" for a node (1-based line and column).
-ConfigError config_error(const std::string& file, const YAML::Node& node, const std::string& what);
-
-// Throws unless every key of `map` is in `allowed`; names the closest valid key.
-void check_keys(const std::string& file, const YAML::Node& map, const std::vector<std::string>& allowed);
+// Configuration errors name FILE:LINE:COL (adapters/config.h).
+using hcosim::check_keys;
+using hcosim::config_error;
+using hcosim::ConfigError;
 
 enum class Mode { kRealtime, kLockstep };
 const char* to_string(Mode m);
