@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <regex>
 #include <set>
@@ -105,6 +106,21 @@ std::string Params::text(const std::string& key, const std::string& fallback,
   if (std::find(allowed.begin(), allowed.end(), v) == allowed.end())
     throw config_error(file_, node_[key], "'" + key + "' must be one of " + join(allowed) + ", not '" + v + "'");
   return v;
+}
+
+std::string Params::path(const std::string& key) const {
+  if (!node_ || !node_[key]) return "";
+  std::filesystem::path p = config_text(file_, node_[key], key);
+  if (p.is_relative()) p = std::filesystem::path(file_).parent_path() / p;
+  if (!std::filesystem::exists(p)) throw config_error(file_, node_[key], "'" + key + "': no file " + p.string());
+  return p.string();
+}
+
+std::array<double, 3> Params::vec3(const std::string& key, const std::array<double, 3>& fallback) const {
+  if (!node_ || !node_[key]) return fallback;
+  const YAML::Node n = node_[key];
+  if (!n.IsSequence() || n.size() != 3) throw config_error(file_, n, "'" + key + "' must be [x, y, z]");
+  return {config_number(file_, n[0], key), config_number(file_, n[1], key), config_number(file_, n[2], key)};
 }
 
 void Params::allow_only(const std::vector<std::string>& allowed) const {

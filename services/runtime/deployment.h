@@ -2,6 +2,7 @@
 // Every key, unit and default: docs/deployment.md.
 #pragma once
 
+#include <array>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -51,6 +52,11 @@ class Params {
   double number(const std::string& key, double fallback, double lo, double hi) const;
   // The string at `key`, or `fallback` when absent; must be one of `allowed`.
   std::string text(const std::string& key, const std::string& fallback, const std::vector<std::string>& allowed) const;
+  // The file path at `key`, relative paths taken from the deployment
+  // file's folder; "" when absent. The file must exist.
+  std::string path(const std::string& key) const;
+  // The [x, y, z] at `key`, or `fallback` when absent.
+  std::array<double, 3> vec3(const std::string& key, const std::array<double, 3>& fallback) const;
   // Throws if a key outside `allowed` is present.
   void allow_only(const std::vector<std::string>& allowed) const;
 

@@ -1,0 +1,26 @@
+// Conversions between the device's frames and the HapticState and
+// ForceFeedback topics.
+#pragma once
+
+#include <string>
+
+#include <Eigen/Core>
+
+#include "device/device.h"
+#include "hcosim/idl/haptic.h"
+
+namespace hcosim::device {
+
+inline Eigen::Vector3d from_idl(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+inline Vec3 to_idl(const Eigen::Vector3d& v) {
+  Vec3 out;
+  out.x(v.x()), out.y(v.y()), out.z(v.z());
+  return out;
+}
+
+// The HapticState of `frame`, with the force the device output that tick.
+HapticState haptic_state(const std::string& device, std::uint64_t seq, const StepStamp& stamp, const Frame& frame,
+                         const Eigen::Vector3d& rendered);
+
+}  // namespace hcosim::device

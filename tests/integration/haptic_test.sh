@@ -1,0 +1,39 @@
+# The haptic service in a real deployment: the virtual user presses the
+# simulated Omni into a wall served by another process over Fast DDS; the
+# stylus settles at the depth where hand and wall balance, the device never
+# outputs more than 3.3 N, and the service reports the round trip.
+source "$(dirname "$0")/lib.sh"
+cat >"$WORK/press.yaml" <<'YAML'
+start: [0, 0, 0.01]
+actions:
+  - press: {depth: 0.02, speed: 0.02}
+  - hold: {duration: 3}
+YAML
+deployment up.yaml <<'YAML'
+mode: realtime
+duration: 4
+services:
+  - name: omni
+    kind: haptic
+    rate: 1000
+    params: {script: press.yaml}
+  - name: wall
+    kind: test_probe
+    rate: 1000
+    params: {role: wall, stiffness: 500}
+YAML
+start state "$BIN/hcosim" echo HapticState --count 0 --timeout 6
+timeout 30 "$BIN/hcosim" up "$WORK/up.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1 || fail "up exited $?"
+wait "${PIDS[0]}"
+summary=$(grep "omni:.*ticks" "$WORK/out/logs/omni.log") || fail "no summary from the haptic service"
+answered=$(echo "$summary" | sed -nE 's/.* ([0-9]+) answered.*/\1/p')
+[ "${answered:-0}" -gt 1000 ] || fail "only ${answered:-0} states answered by the wall: $summary"
+echo "$summary" | grep -qE "round trip p50 [0-9]+ us p99 [0-9]+ us" || fail "no round trip figures: $summary"
+# Hand 200 N/m pulling 10 mm behind a 500 N/m wall: the tip rests 2.86 mm in.
+zs=$(grep -oE '"position":\{"x":[^}]*"z":-?[0-9.e+-]+' "$WORK/state.log" | sed -E 's/.*"z"://')
+[ -n "$zs" ] || fail "no HapticState from the service on the wire"
+echo "$zs" | tail -n 500 | awk '{ s += $1; n++ } END { d = -s / n; exit !(d > 0.00255 && d < 0.00315) }' ||
+  fail "settled depth not 2.86 mm: $(echo "$zs" | tail -n 3 | tr '\n' ' ')"
+fz=$(grep -oE '"rendered_force":\{"x":[^}]*"z":-?[0-9.e+-]+' "$WORK/state.log" | sed -E 's/.*"z"://')
+echo "$fz" | awk '{ if ($1 > m) m = $1 } END { exit !(m > 1.2 && m <= 3.3) }' || fail "rendered force out of range"
+echo "haptic_test: ok ($summary)"
