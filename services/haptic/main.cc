@@ -1,9 +1,11 @@
 // hcosim_haptic: the haptic device service. Each servo tick it reads the
-// device, sums the latest ForceFeedback of every source, passes it through
-// the passivity controller, outputs it (clamped), and publishes the
-// HapticState. Params (docs/haptic.md): script, passivity, source_timeout,
-// max_damping, reservoir, hand_stiffness, hand_damping, centre.
+// device and publishes the HapticState, takes the ForceFeedback of every
+// source (waiting up to `answer_wait` for the answers to this tick), sums
+// each source's latest, passes the sum through the passivity controller
+// and outputs it, clamped. Params: docs/haptic.md.
 #include <cstdio>
+#include <fstream>
+#include <set>
 #include <vector>
 
 #include "device/haptic_idl.h"
@@ -23,11 +25,13 @@ namespace {
 class RoundTrips {
  public:
   void sent(std::uint64_t seq, std::int64_t t) { at_[seq % at_.size()] = {seq, t}; }
-  void answered(std::uint64_t seq, std::int64_t t) {
+  // True for the first answer to `seq`.
+  bool answered(std::uint64_t seq, std::int64_t t) {
     Sent& s = at_[seq % at_.size()];
-    if (s.seq != seq || s.t < 0) return;
+    if (s.seq != seq || s.t < 0) return false;
     window_.add((t - s.t) * 1e-3);
-    s.t = -1;  // the first answer only
+    s.t = -1;
+    return true;
   }
   const Window& window() const { return window_; }
 
@@ -44,7 +48,7 @@ int run(int argc, char** argv) {
   Service svc(parse_options(argc, argv));
   const Params& p = svc.params();
   p.allow_only({"script", "passivity", "source_timeout", "max_damping", "reservoir", "hand_stiffness", "hand_damping",
-                "centre"});
+                "centre", "answer_wait", "sources", "report"});
   const std::string script = p.path("script");
   if (script.empty()) throw ConfigError("hcosim_haptic: params.script is required (a virtual-user script, docs/haptic.md)");
   haptic::OmniSpec spec;
@@ -59,6 +63,11 @@ int run(int argc, char** argv) {
   haptic::PassivityController pc(dt, p.number("max_damping", 20, 1e-3, 1e3), p.number("reservoir", 1e-4, 1e-9, 10));
   haptic::ForceSum sum(p.number("source_timeout", 0.05, 1e-3, 10));
   device::SimulatedOmni omni(spec, hand, device::load_script(script));
+  // Waiting for this tick's answers gives forces computed from this tick's
+  // position; `sources` says how many answers to wait for.
+  const double answer_wait = p.number("answer_wait", 0, 0, 0.9 / spec.servo_hz);
+  const std::size_t sources = std::size_t(p.number("sources", 1, 1, 64));
+  const std::string report = p.output_path("report");
 
   Writer<HapticState> out(svc.participant());
   Reader<ForceFeedback> in = svc.reader<ForceFeedback>();
@@ -66,25 +75,45 @@ int run(int argc, char** argv) {
   RoundTrips rtt;
   Eigen::Vector3d applied = Eigen::Vector3d::Zero();
   std::uint64_t seq = 0;
+  std::uint64_t on_time = 0, with_sources = 0;  // ticks answered in time, of those with every source matched
   const int status = svc.run([&](const Tick& tick) {
     const device::Frame f = omni.begin_frame();
     const double now = tick.sim_time_ns * 1e-9;
-    in.take([&](const ForceFeedback& s) {
-      if (s.device().to_string() != name) return;
-      sum.set(s.source().to_string(), device::from_idl(s.force()), now);
-      rtt.answered(s.answers_seq(), mono_ns());
-    });
+    HapticState hs = device::haptic_state(name, seq, svc.stamp(tick), f, applied);
+    const std::int64_t sent = mono_ns();
+    rtt.sent(seq, sent);
+    out.write(hs);
+    std::set<std::string> answered;
+    auto take = [&] {
+      in.take([&](const ForceFeedback& s) {
+        if (s.device().to_string() != name) return;
+        sum.set(s.source().to_string(), device::from_idl(s.force()), now);
+        rtt.answered(s.answers_seq(), mono_ns());
+        if (s.answers_seq() == seq) answered.insert(s.source().to_string());
+      });
+    };
+    take();
+    const std::int64_t deadline = sent + std::int64_t(answer_wait * 1e9);
+    while (answered.size() < sources && mono_ns() < deadline && in.wait(std::chrono::nanoseconds(deadline - mono_ns())))
+      take();
+    if (in.matched() >= int(sources)) ++with_sources, on_time += answered.size() >= sources;
     const Eigen::Vector3d env = sum.total(now);
     applied = omni.end_frame(passivity ? pc.filter(env, f.velocity, applied) : env);
-    HapticState hs = device::haptic_state(name, seq, svc.stamp(tick), f, applied);
-    rtt.sent(seq++, mono_ns());
-    out.write(hs);
+    ++seq;
   });
   const Window& w = rtt.window();
-  std::printf("%s: %llu ticks, %zu answered, round trip p50 %.0f us p99 %.0f us, %llu saturated, %llu sources timed out, "
-              "%.3g J dissipated by the passivity controller\n",
+  const double on_time_ratio = with_sources ? double(on_time) / double(with_sources) : 0;
+  if (!report.empty()) {
+    std::ofstream r(report);
+    r << "{\"ticks\":" << seq << ",\"answered\":" << w.size() << ",\"p50_us\":" << w.percentile(0.5)
+      << ",\"p99_us\":" << w.percentile(0.99) << ",\"on_time_ratio\":" << on_time_ratio
+      << ",\"saturated\":" << omni.saturated() << "}\n";
+    if (!r) throw std::runtime_error("cannot write " + report);
+  }
+  std::printf("%s: %llu ticks, %zu answered, round trip p50 %.0f us p99 %.0f us, %.4f on time, %llu saturated, "
+              "%llu sources timed out, %.3g J dissipated by the passivity controller\n",
               name.c_str(), static_cast<unsigned long long>(omni.frames()), w.size(), w.percentile(0.5),
-              w.percentile(0.99), static_cast<unsigned long long>(omni.saturated()),
+              w.percentile(0.99), on_time_ratio, static_cast<unsigned long long>(omni.saturated()),
               static_cast<unsigned long long>(sum.expired()), pc.dissipated());
   return status;
 }

@@ -79,10 +79,10 @@ int pong_loop(Pong& p, std::int64_t end) {
   HapticState in;
   ForceFeedback out;
   out.source("bench");
-  out.device("bench");
   while (!rt::stop_requested() && rt::mono_ns() < end) {
     if (!p.wait()) continue;
     while (p.take(in)) {
+      out.device(in.device());
       out.answers_seq(in.seq());
       out.force().z(-in.position().z() * 500.0);
       p.write(out);
@@ -90,11 +90,6 @@ int pong_loop(Pong& p, std::int64_t end) {
   }
   return 0;
 }
-
-struct Rtt {
-  rt::Window us{1 << 20};
-  std::uint64_t sent = 0, lost = 0;
-};
 
 // Sends HapticState at 1 kHz for `seconds`, waiting up to 10 ms for the
 // ForceFeedback that answers each one.
@@ -124,6 +119,8 @@ Rtt ping(double seconds, Wait&& wait, Take&& take, Write&& write) {
   return r;
 }
 
+}  // namespace
+
 pid_t start_peer(const std::string& impl, int domain, double seconds) {
   const std::string self = fs::read_symlink("/proc/self/exe").string();
   const pid_t pid = fork();
@@ -141,6 +138,35 @@ void stop_peer(pid_t pid) {
   waitpid(pid, &status, 0);
 }
 
+Rtt bare_rtt(int domain, double seconds) {
+  const pid_t peer = start_peer("bare", domain, seconds);
+  Bare b = Bare::make<HapticState, ForceFeedback>(domain, "HapticState", "ForceFeedback");
+  PublicationMatchedStatus pm;
+  SubscriptionMatchedStatus sm;
+  const std::int64_t deadline = rt::mono_ns() + 10'000'000'000;
+  do {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    b.writer->get_publication_matched_status(pm);
+    b.reader->get_subscription_matched_status(sm);
+  } while ((pm.current_count < 1 || sm.current_count < 1) && rt::mono_ns() < deadline);
+  ForceFeedback f;
+  SampleInfo info;
+  Rtt r = ping(
+      seconds, [&] { return b.reader->wait_for_unread_message(rt::to_dds(std::chrono::milliseconds(10))); },
+      [&](std::uint64_t k) {
+        bool hit = false;
+        while (b.reader->take_next_sample(&f, &info) == ReturnCode_t::RETCODE_OK)
+          hit = hit || (info.valid_data && f.answers_seq() == k);
+        return hit;
+      },
+      [&](HapticState& s) { b.writer->write(&s); });
+  b.destroy();
+  stop_peer(peer);
+  return r;
+}
+
+namespace {
+
 Row rtt_row(const std::string& impl, const Rtt& r) {
   Row row{"rtt", {{"impl", impl}, {"rate_hz", 1000.0}, {"payload", std::string("HapticState/ForceFeedback")}}, {}};
   row.metrics = {{"p50_us", r.us.percentile(0.5)},
@@ -155,33 +181,8 @@ std::vector<Row> dds_rows(const Context& c) {
   const double seconds = c.quick ? 5 : 30;
   std::vector<Row> rows;
   // Bare first, then hcosim, in the same run: only their ratio is meaningful.
-  {
-    progress("dds rtt bare Fast DDS, " + std::to_string(int(seconds)) + " s at 1 kHz");
-    const pid_t peer = start_peer("bare", c.domain, seconds);
-    Bare b = Bare::make<HapticState, ForceFeedback>(c.domain, "HapticState", "ForceFeedback");
-    PublicationMatchedStatus pm;
-    SubscriptionMatchedStatus sm;
-    const std::int64_t deadline = rt::mono_ns() + 10'000'000'000;
-    do {
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-      b.writer->get_publication_matched_status(pm);
-      b.reader->get_subscription_matched_status(sm);
-    } while ((pm.current_count < 1 || sm.current_count < 1) && rt::mono_ns() < deadline);
-    ForceFeedback f;
-    SampleInfo info;
-    Rtt r = ping(
-        seconds, [&] { return b.reader->wait_for_unread_message(rt::to_dds(std::chrono::milliseconds(10))); },
-        [&](std::uint64_t k) {
-          bool hit = false;
-          while (b.reader->take_next_sample(&f, &info) == ReturnCode_t::RETCODE_OK)
-            hit = hit || (info.valid_data && f.answers_seq() == k);
-          return hit;
-        },
-        [&](HapticState& s) { b.writer->write(&s); });
-    b.destroy();
-    stop_peer(peer);
-    rows.push_back(rtt_row("bare", r));
-  }
+  progress("dds rtt bare Fast DDS, " + std::to_string(int(seconds)) + " s at 1 kHz");
+  rows.push_back(rtt_row("bare", bare_rtt(c.domain, seconds)));
   {
     progress("dds rtt hcosim runtime, " + std::to_string(int(seconds)) + " s at 1 kHz");
     const pid_t peer = start_peer("hcosim", c.domain, seconds);
@@ -217,6 +218,7 @@ const std::vector<Suite>& suites() {
       {"dds", "1 kHz HapticState/ForceFeedback round trip between two processes: hcosim runtime vs bare Fast DDS",
        dds_rows},
       massspring_suite(),
+      haptic_suite(),
   };
   return all;
 }

@@ -1,6 +1,9 @@
 // hcosim bench: the suites and the report rows they produce.
 #pragma once
 
+#include <sys/types.h>
+
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <iostream>
@@ -8,6 +11,8 @@
 #include <utility>
 #include <variant>
 #include <vector>
+
+#include "stats.h"
 
 namespace hcosim::cli {
 
@@ -37,5 +42,22 @@ inline void progress(const std::string& line) { std::cerr << "bench: " << line <
 
 // Mass-spring integrators and MuJoCo on the same lattices: bench_massspring.cc.
 Suite massspring_suite();
+
+// The haptic device's closed loop, the stiff-wall rig: bench_haptic.cc.
+Suite haptic_suite();
+
+// 1 kHz HapticState -> ForceFeedback round trips, us (bench.cc).
+struct Rtt {
+  rt::Window us{1 << 20};
+  std::uint64_t sent = 0, lost = 0;
+};
+
+// A peer process answering HapticState with ForceFeedback: `impl` "bare"
+// (Fast DDS alone) or "hcosim" (the service runtime).
+pid_t start_peer(const std::string& impl, int domain, double seconds);
+void stop_peer(pid_t pid);
+
+// Round trips against a bare Fast DDS peer for `seconds`.
+Rtt bare_rtt(int domain, double seconds);
 
 }  // namespace hcosim::cli

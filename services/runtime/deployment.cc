@@ -116,6 +116,13 @@ std::string Params::path(const std::string& key) const {
   return p.string();
 }
 
+std::string Params::output_path(const std::string& key) const {
+  if (!node_ || !node_[key]) return "";
+  std::filesystem::path p = config_text(file_, node_[key], key);
+  if (p.is_relative()) p = std::filesystem::path(file_).parent_path() / p;
+  return p.string();
+}
+
 std::array<double, 3> Params::vec3(const std::string& key, const std::array<double, 3>& fallback) const {
   if (!node_ || !node_[key]) return fallback;
   const YAML::Node n = node_[key];

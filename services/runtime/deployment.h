@@ -55,6 +55,9 @@ class Params {
   // The file path at `key`, relative paths taken from the deployment
   // file's folder; "" when absent. The file must exist.
   std::string path(const std::string& key) const;
+  // The path of a file to write at `key`, relative paths taken from the
+  // deployment file's folder; "" when absent.
+  std::string output_path(const std::string& key) const;
   // The [x, y, z] at `key`, or `fallback` when absent.
   std::array<double, 3> vec3(const std::string& key, const std::array<double, 3>& fallback) const;
   // Throws if a key outside `allowed` is present.

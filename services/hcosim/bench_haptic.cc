@@ -1,0 +1,111 @@
+// bench haptic: the haptic device's closed loop and its force rendering.
+//
+// closed_loop_rtt: hcosim_haptic at 1 kHz, waiting up to 0.8 ms each tick
+//   for the force answering that tick's HapticState, from a force-producing
+//   peer in another process (the hcosim runtime's pong, a wall at z = 0).
+//   The round trip is measured by the device service itself.
+// bare_fastdds_rtt: the same payloads and QoS kinds between two processes
+//   using Fast DDS alone, measured in the same run.
+// wall: the stiff-wall rig (adapters/device/wall_rig.h) per delay and
+//   stiffness: the largest force output, the device's net work on the tip,
+//   and whether the contact settled.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include "bench.h"
+#include "device/wall_rig.h"
+
+namespace hcosim::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The number after "key": in a one-line JSON report.
+double field(const std::string& json, const std::string& key) {
+  std::smatch m;
+  if (!std::regex_search(json, m, std::regex("\"" + key + "\":([-0-9.eE+]+|nan|inf)")))
+    throw std::runtime_error("bench haptic: no '" + key + "' in the device's report: " + json);
+  return std::stod(m[1]);
+}
+
+Row closed_loop(const Context& c, double seconds) {
+  const fs::path dir = c.out / "haptic_run";
+  fs::create_directories(dir);
+  std::ofstream(dir / "hold.yaml") << "start: [0, 0, 0.001]\nactions:\n  - press: {depth: 0.003, speed: 0.01}\n"
+                                      "  - hold: {duration: 1000}\n";
+  std::ofstream(dir / "deploy.yaml") << "domain: " << c.domain << "\nmode: realtime\nservices:\n"
+                                     << "  - name: omni\n    kind: haptic\n    rate: 1000\n"
+                                     << "    params: {script: hold.yaml, answer_wait: 0.0008, report: omni.json}\n";
+  fs::remove(dir / "omni.json");
+  const pid_t peer = start_peer("hcosim", c.domain, seconds + 5);
+  const std::string haptic = (fs::read_symlink("/proc/self/exe").parent_path() / "hcosim_haptic").string();
+  const std::string log = (dir / "omni.log").string();
+  const pid_t dev = fork();
+  if (dev == 0) {
+    freopen(log.c_str(), "w", stdout);
+    freopen(log.c_str(), "a", stderr);
+    execl(haptic.c_str(), haptic.c_str(), "--name", "omni", "--rate", "1000", "--domain",
+          std::to_string(c.domain).c_str(), "--duration", std::to_string(seconds).c_str(), "--deployment",
+          (dir / "deploy.yaml").c_str(), nullptr);
+    _exit(127);
+  }
+  int status = 0;
+  waitpid(dev, &status, 0);
+  stop_peer(peer);
+  std::ifstream in(dir / "omni.json");
+  std::stringstream json;
+  json << in.rdbuf();
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || json.str().empty())
+    throw std::runtime_error("bench haptic: hcosim_haptic failed (status " + std::to_string(status) + "), see " + log);
+  return {"closed_loop_rtt",
+          {{"rate_hz", 1000.0}, {"seconds", seconds}, {"answer_wait_ms", 0.8}},
+          {{"p50_us", field(json.str(), "p50_us")},
+           {"p99_us", field(json.str(), "p99_us")},
+           {"on_time_ratio", field(json.str(), "on_time_ratio")},
+           {"ticks", field(json.str(), "ticks")}}};
+}
+
+std::vector<Row> haptic_rows(const Context& c) {
+  const double seconds = c.quick ? 10 : 60;
+  std::vector<Row> rows;
+  progress("haptic closed loop: hcosim_haptic and a force peer, " + std::to_string(int(seconds)) + " s at 1 kHz");
+  rows.push_back(closed_loop(c, seconds));
+  progress("haptic bare Fast DDS round trip, " + std::to_string(int(seconds)) + " s at 1 kHz");
+  const Rtt bare = bare_rtt(c.domain, seconds);
+  rows.push_back({"bare_fastdds_rtt",
+                  {{"rate_hz", 1000.0}, {"seconds", seconds}},
+                  {{"p50_us", bare.us.percentile(0.5)},
+                   {"p99_us", bare.us.percentile(0.99)},
+                   {"loss_ratio", bare.sent ? double(bare.lost) / double(bare.sent) : 1.0}}});
+  rows[0].metrics.push_back({"p99_ratio_to_bare", rows[0].metrics[1].second / rows[1].metrics[1].second});
+  progress("haptic wall rig: stiffness 250 to 1000 N/m, delay 0 to 5 ms");
+  for (const double k : {250.0, 500.0, 1000.0})
+    for (const double delay_ms : {0.0, 1.0, 2.0, 3.0, 5.0}) {
+      device::WallRig rig;
+      rig.wall.stiffness = k;
+      rig.delay_s = delay_ms * 1e-3;
+      const device::WallRun run = device::run_wall(rig);
+      rows.push_back({"wall",
+                      {{"delay_ms", delay_ms}, {"stiffness_n_per_m", k}},
+                      {{"max_force_n", run.max_force_n},
+                       {"energy_out_j", run.max_energy_out_j},
+                       {"stable", run.stable ? 1.0 : 0.0},
+                       {"depth_error", run.depth_m / device::balance_depth(rig) - 1}}});
+    }
+  return rows;
+}
+
+}  // namespace
+
+Suite haptic_suite() {
+  return {"haptic",
+          "haptic device: closed-loop round trip through hcosim_haptic against bare Fast DDS, and the stiff wall "
+          "with 0 to 5 ms of force delay",
+          haptic_rows};
+}
+
+}  // namespace hcosim::cli

@@ -1,0 +1,19 @@
+# hcosim bench haptic --quick: the closed loop through hcosim_haptic and a
+# force peer in another process, the bare Fast DDS baseline from the same
+# run, and a wall row per delay and stiffness, every one stable.
+source "$(dirname "$0")/lib.sh"
+timeout 100 "$BIN/hcosim" bench haptic --quick --domain "$DOMAIN" --out "$WORK/b" >"$WORK/bench.log" 2>&1 ||
+  fail "bench exited $?: $(tail -5 "$WORK/bench.log")"
+f="$WORK/b/haptic.json"
+[ -s "$f" ] || fail "no $f"
+num='[0-9][0-9.e+-]*'
+grep -qE "\"name\":\"closed_loop_rtt\",[^}]*\},\"metrics\":\{\"p50_us\":$num,\"p99_us\":$num,\"on_time_ratio\":$num,\"ticks\":$num,\"p99_ratio_to_bare\":$num" "$f" ||
+  fail "no closed_loop_rtt row with its metrics"
+grep -qE "\"name\":\"bare_fastdds_rtt\",[^}]*\},\"metrics\":\{\"p50_us\":$num,\"p99_us\":$num" "$f" || fail "no bare_fastdds_rtt row"
+# Most ticks are answered within the tick even on a loaded CI machine.
+ratio=$(grep -oE "\"on_time_ratio\":$num" "$f" | cut -d: -f2)
+awk -v r="$ratio" 'BEGIN { exit !(r > 0.9) }' || fail "only $ratio of ticks answered in time"
+walls=$(grep -oE "\"name\":\"wall\",\"params\":\{\"delay_ms\":$num,\"stiffness_n_per_m\":$num\},\"metrics\":\{\"max_force_n\":$num,\"energy_out_j\":$num,\"stable\":[01]" "$f" | wc -l)
+[ "$walls" -eq 15 ] || fail "expected 15 wall rows, found $walls"
+grep -qE '"stable":0' "$f" && fail "an unstable wall: $(grep -oE '\{"name":"wall"[^}]*\},"metrics":\{[^}]*"stable":0[^}]*\}' "$f")"
+echo "bench_haptic_test: ok (on time $ratio)"
