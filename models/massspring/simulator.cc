@@ -55,6 +55,7 @@ struct Simulator::Impl {
   std::vector<int> springs, spring_slot;  // their springs; spring -> index in springs, or -1
   std::vector<std::uint8_t> ends;         // simulated ends of each spring
   std::vector<int> seen_quiet;            // State::quiet as the last step left it
+  std::size_t moved = 0;                  // masses that entered or left since the lists were sorted
   std::vector<PointForce> loads;          // this step's loads on simulated masses
 
   Eigen::Matrix3Xd f, x0, v0, sx, sv;  // scratch, 3 x n; f of masses outside the set is unused
@@ -90,9 +91,7 @@ struct Simulator::Impl {
     for (const Spring& sp : lat.springs) dampers = dampers || sp.b > 0;
     if (!adaptive) {
       for (int i = 0; i < n; ++i) enter(i);
-      // In the lattice's order, for the force loop's memory access.
-      std::sort(springs.begin(), springs.end());
-      for (int k = 0; k < int(springs.size()); ++k) spring_slot[springs[k]] = k;
+      sort_lists();
     }
   }
 
@@ -109,6 +108,7 @@ struct Simulator::Impl {
   void enter(int i) {
     if (lat.anchored[i]) return;
     slot[i] = int(masses.size()), masses.push_back(i);
+    ++moved;
     for (int e = adj.start[i]; e < adj.start[i + 1]; ++e) {
       const int si = adj.spring[e];
       if (ends[si]++ == 0) spring_slot[si] = int(springs.size()), springs.push_back(si);
@@ -120,6 +120,7 @@ struct Simulator::Impl {
     if (lat.anchored[i]) return;
     const int k = slot[i];
     masses[k] = masses.back(), slot[masses[k]] = k, masses.pop_back();
+    ++moved;
     slot[i] = -1;
     s.v.col(i).setZero();
     for (int e = adj.start[i]; e < adj.start[i + 1]; ++e) {
@@ -163,9 +164,20 @@ struct Simulator::Impl {
           if (!active[p.mass]) activate(p.mass);
         }
     }
+    // Entering and leaving scatter the lists; back in lattice order once an
+    // eighth of them moved, so that the force loop walks memory forward.
+    if (moved * 8 > masses.size()) sort_lists();
     loads.clear();
     for (const PointForce& p : in)
       if (slot[p.mass] >= 0) loads.push_back(p);
+  }
+
+  void sort_lists() {
+    std::sort(masses.begin(), masses.end());
+    std::sort(springs.begin(), springs.end());
+    for (int k = 0; k < int(masses.size()); ++k) slot[masses[k]] = k;
+    for (int k = 0; k < int(springs.size()); ++k) spring_slot[springs[k]] = k;
+    moved = 0;
   }
 
   // Empties the set without touching any state.
