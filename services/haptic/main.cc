@@ -5,10 +5,12 @@
 // and outputs it, clamped. Params: docs/haptic.md.
 #include <cstdio>
 #include <fstream>
+#include <memory>
 #include <set>
 #include <vector>
 
 #include "device/haptic_idl.h"
+#include "device/replay.h"
 #include "device/script_yaml.h"
 #include "device/simulated_omni.h"
 #include "haptic/force_sum.h"
@@ -47,10 +49,13 @@ class RoundTrips {
 int run(int argc, char** argv) {
   Service svc(parse_options(argc, argv));
   const Params& p = svc.params();
-  p.allow_only({"script", "passivity", "source_timeout", "max_damping", "reservoir", "hand_stiffness", "hand_damping",
+  p.allow_only({"device", "replay", "script", "passivity", "source_timeout", "max_damping", "reservoir", "hand_stiffness", "hand_damping",
                 "centre", "answer_wait", "sources", "report"});
-  const std::string script = p.path("script");
-  if (script.empty()) throw ConfigError("hcosim_haptic: params.script is required (a virtual-user script, docs/haptic.md)");
+  const bool replay = p.text("device", "simulated", {"simulated", "replay"}) == "replay";
+  const std::string source = p.path(replay ? "replay" : "script");
+  if (source.empty())
+    throw ConfigError(std::string("hcosim_haptic: params.") + (replay ? "replay (a recorded trajectory, CSV)" : "script (a virtual-user script)") +
+                      " is required; docs/haptic.md");
   haptic::OmniSpec spec;
   const auto c = p.vec3("centre", {0, 0, 0});
   spec.centre = {c[0], c[1], c[2]};
@@ -62,7 +67,10 @@ int run(int argc, char** argv) {
   const double dt = 1 / spec.servo_hz;
   haptic::PassivityController pc(dt, p.number("max_damping", 20, 1e-3, 1e3), p.number("reservoir", 1e-4, 1e-9, 10));
   haptic::ForceSum sum(p.number("source_timeout", 0.05, 1e-3, 10));
-  device::SimulatedOmni omni(spec, hand, device::load_script(script));
+  std::unique_ptr<device::Device> dev;
+  if (replay) dev = std::make_unique<device::Replay>(spec, device::load_trajectory(source));
+  else dev = std::make_unique<device::SimulatedOmni>(spec, hand, device::load_script(source));
+  device::Device& omni = *dev;
   // Waiting for this tick's answers gives forces computed from this tick's
   // position; `sources` says how many answers to wait for.
   const double answer_wait = p.number("answer_wait", 0, 0, 0.9 / spec.servo_hz);

@@ -31,6 +31,7 @@ int topics(const std::vector<std::string>& argv);
 int echo(const std::vector<std::string>& argv);
 int hz(const std::vector<std::string>& argv);
 int bench(const std::vector<std::string>& argv);
+int record(const std::vector<std::string>& argv);
 int bench_peer(const std::vector<std::string>& argv);  // hidden: the far end of dds round trips
 
 }  // namespace hcosim::cli

@@ -68,6 +68,8 @@ Commands:
         print samples of one of hcosim's topics as JSON lines
   hz TOPIC [--duration S] [--domain D]
         measure the rate at which a topic's samples arrive
+  record --out FILE.csv [--device NAME] [--duration S] [--domain D]
+        write a haptic device's HapticState as a trajectory the replay device plays
   bench SUITE|all|list [--quick] --out DIR
         run a benchmark suite and write DIR/SUITE.json
 
@@ -90,6 +92,7 @@ int main(int argc, char** argv) {
     if (cmd == "echo") return echo(rest);
     if (cmd == "hz") return hz(rest);
     if (cmd == "bench") return bench(rest);
+    if (cmd == "record") return record(rest);
     if (cmd == "bench-peer") return bench_peer(rest);
     std::cerr << "hcosim: unknown command '" << cmd << "'\n\n" << kUsage;
     return 2;

@@ -1,7 +1,8 @@
 # The haptic service in a real deployment: the virtual user presses the
 # simulated Omni into a wall served by another process over Fast DDS; the
 # stylus settles at the depth where hand and wall balance, the device never
-# outputs more than 3.3 N, and the service reports the round trip.
+# outputs more than 3.3 N, and the service reports the round trip. Then
+# `hcosim record` captures the stylus, and a replay device plays it back.
 source "$(dirname "$0")/lib.sh"
 cat >"$WORK/press.yaml" <<'YAML'
 start: [0, 0, 0.01]
@@ -23,6 +24,7 @@ services:
     params: {role: wall, stiffness: 500}
 YAML
 start state "$BIN/hcosim" echo HapticState --count 0 --timeout 6
+start record "$BIN/hcosim" record --device omni --duration 6 --out "$WORK/omni.csv"
 timeout 30 "$BIN/hcosim" up "$WORK/up.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1 || fail "up exited $?"
 wait "${PIDS[0]}"
 summary=$(grep "omni:.*ticks" "$WORK/out/logs/omni.log") || fail "no summary from the haptic service"
@@ -36,4 +38,25 @@ echo "$zs" | tail -n 500 | awk '{ s += $1; n++ } END { d = -s / n; exit !(d > 0.
   fail "settled depth not 2.86 mm: $(echo "$zs" | tail -n 3 | tr '\n' ' ')"
 fz=$(grep -oE '"rendered_force":\{"x":[^}]*"z":-?[0-9.e+-]+' "$WORK/state.log" | sed -E 's/.*"z"://')
 echo "$fz" | awk '{ if ($1 > m) m = $1 } END { exit !(m > 1.2 && m <= 3.3) }' || fail "rendered force out of range"
+wait "${PIDS[1]}" || fail "record exited $?"
+rows=$(($(wc -l <"$WORK/omni.csv") - 1))
+[ "$rows" -gt 3000 ] || fail "recorded only $rows samples"
+# The replay device plays the recording: its deepest point is the recording's.
+deployment replay.yaml <<'YAML'
+mode: realtime
+duration: 2
+services:
+  - name: omni
+    kind: haptic
+    rate: 1000
+    params: {device: replay, replay: omni.csv}
+YAML
+start replayed "$BIN/hcosim" echo HapticState --count 0 --timeout 4
+timeout 30 "$BIN/hcosim" up "$WORK/replay.yaml" --out "$WORK/out2" >"$WORK/up2.log" 2>&1 || fail "replay up exited $?"
+wait "${PIDS[2]}"
+deepest() { sort -g | head -n 1; }
+rec=$(tail -n +2 "$WORK/omni.csv" | cut -d, -f4 | deepest)
+rep=$(grep -oE '"position":\{"x":[^}]*"z":-?[0-9.e+-]+' "$WORK/replayed.log" | sed -E 's/.*"z"://' | deepest)
+awk -v a="$rec" -v b="$rep" 'BEGIN { d = a - b; exit !(a < -0.002 && d < 1e-4 && d > -1e-4) }' ||
+  fail "replay's deepest z $rep is not the recording's $rec"
 echo "haptic_test: ok ($summary)"

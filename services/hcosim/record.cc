@@ -1,0 +1,47 @@
+// hcosim record: a haptic device's HapticState as a CSV trajectory that
+// the replay backend plays back (adapters/device/replay.h).
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <stdexcept>
+
+#include "cli.h"
+#include "service.h"
+
+namespace hcosim::cli {
+
+int record(const std::vector<std::string>& argv) {
+  const Args a = parse(argv, {"--out", "--device", "--duration", "--domain"}, {});
+  const std::string out = a.get("--out", "");
+  if (out.empty()) throw std::invalid_argument("record needs --out FILE.csv");
+  const std::string device = a.get("--device", "");
+  const double duration = a.number("--duration", 0);
+  if (duration < 0) throw std::invalid_argument("--duration must not be negative");
+  std::ofstream csv(out);
+  if (!csv) throw std::runtime_error(out + ": cannot be written");
+  csv.precision(9);
+  csv << "time_s,x,y,z,buttons\n";
+  rt::install_stop_handlers();
+  rt::Participant p(domain_of(a), "hcosim_record");
+  rt::Reader<HapticState> reader(p, [](const HapticState& s) { return validate(s); });
+  const std::int64_t end = duration > 0 ? rt::mono_ns() + std::int64_t(duration * 1e9) : INT64_MAX;
+  std::uint64_t n = 0;
+  double last = -1;
+  while (!rt::stop_requested() && rt::mono_ns() < end) {
+    if (!reader.wait(std::chrono::milliseconds(100))) continue;
+    reader.take([&](const HapticState& s) {
+      if (!device.empty() && s.device().to_string() != device) return;
+      if (s.device_time_s() <= last) return;  // replay needs increasing times
+      last = s.device_time_s();
+      csv << s.device_time_s() << ',' << s.position().x() << ',' << s.position().y() << ',' << s.position().z() << ','
+          << s.buttons() << '\n';
+      ++n;
+    });
+  }
+  csv.flush();
+  if (!csv) throw std::runtime_error(out + ": write failed");
+  std::cerr << "hcosim record: " << n << " samples to " << out << "\n";
+  return n > 0 ? 0 : 1;
+}
+
+}  // namespace hcosim::cli
