@@ -21,9 +21,10 @@ services:
   - name: wall
     kind: test_probe
     rate: 1000
-    params: {role: wall, stiffness: 500}
+    params: {role: wall, stiffness: 500, nan_every: 50}
 YAML
 start state "$BIN/hcosim" echo HapticState --count 0 --timeout 6
+start status "$BIN/hcosim" echo ServiceStatus --count 0 --timeout 6
 start record "$BIN/hcosim" record --device omni --duration 6 --out "$WORK/omni.csv"
 timeout 30 "$BIN/hcosim" up "$WORK/up.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1 || fail "up exited $?"
 wait "${PIDS[0]}"
@@ -38,7 +39,12 @@ echo "$zs" | tail -n 500 | awk '{ s += $1; n++ } END { d = -s / n; exit !(d > 0.
   fail "settled depth not 2.86 mm: $(echo "$zs" | tail -n 3 | tr '\n' ' ')"
 fz=$(grep -oE '"rendered_force":\{"x":[^}]*"z":-?[0-9.e+-]+' "$WORK/state.log" | sed -E 's/.*"z"://')
 echo "$fz" | awk '{ if ($1 > m) m = $1 } END { exit !(m > 1.2 && m <= 3.3) }' || fail "rendered force out of range"
-wait "${PIDS[1]}" || fail "record exited $?"
+wait "${PIDS[2]}" || fail "record exited $?"
+# One answer in 50 carries a NaN force: refused and counted, never output.
+wait "${PIDS[1]}"
+grep '"service":"omni"' "$WORK/status.log" | grep -q '"samples_rejected":[1-9]' || fail "omni did not count NaN forces"
+grep -q 'ForceFeedback: force.y is' "$WORK/status.log" || fail "rejection reason missing"
+grep -q 'null' "$WORK/state.log" && fail "a non-finite value reached HapticState"
 rows=$(($(wc -l <"$WORK/omni.csv") - 1))
 [ "$rows" -gt 3000 ] || fail "recorded only $rows samples"
 # The replay device plays the recording: its deepest point is the recording's.
@@ -53,7 +59,7 @@ services:
 YAML
 start replayed "$BIN/hcosim" echo HapticState --count 0 --timeout 4
 timeout 30 "$BIN/hcosim" up "$WORK/replay.yaml" --out "$WORK/out2" >"$WORK/up2.log" 2>&1 || fail "replay up exited $?"
-wait "${PIDS[2]}"
+wait "${PIDS[3]}"
 deepest() { sort -g | head -n 1; }
 rec=$(tail -n +2 "$WORK/omni.csv" | cut -d, -f4 | deepest)
 rep=$(grep -oE '"position":\{"x":[^}]*"z":-?[0-9.e+-]+' "$WORK/replayed.log" | sed -E 's/.*"z"://' | deepest)

@@ -3,7 +3,8 @@
 // the launcher and the transport are tested across real processes.
 //   source : publishes HapticState (HIP on a vertical sine), counts answers;
 //            param nan_every N makes every Nth sample NaN.
-//   wall   : answers each HapticState with the ForceFeedback of a wall at z = 0.
+//   wall   : answers each HapticState with the ForceFeedback of a wall at z = 0;
+//            nan_every N makes every Nth answer's force NaN.
 //   camera : publishes 640x480 bgr8 CameraFrames (921,600 bytes of pixels).
 //   mesh   : publishes a DeformedMesh of `vertices` vertices and its topology.
 // fail_after S makes any role exit with status 3 after S seconds.
@@ -63,6 +64,7 @@ struct Probe {
         f.stamp(svc.stamp(tick));
         const double depth = std::max(0.0, -s.position().z());
         f.force().z(stiffness * depth);
+        if (nan_every > 0 && ++sent % std::uint64_t(nan_every) == 0) f.force().y(std::nan(""));
         f.in_contact(depth > 0);
         f.penetration_m(depth);
         f.stiffness_n_per_m(stiffness);
