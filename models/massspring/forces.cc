@@ -35,22 +35,13 @@ Eigen::Vector3d spring_direction(const Lattice& l, const Spring& s, const Eigen:
 void add_forces(const Lattice& l, const std::vector<int>& springs, const std::vector<int>& masses,
                 const std::vector<PointForce>& loads, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
                 Eigen::Matrix3Xd& f) {
-  // The hot loop of every explicit integrator: raw column-major arrays.
-  const double* X = x.data();
   const double* V = v.data();
   double* F = f.data();
   for (const int si : springs) {
     const Spring& s = l.springs[si];
     const int a = 3 * s.i, b = 3 * s.j;
-    double u[3] = {X[b] - X[a], X[b + 1] - X[a + 1], X[b + 2] - X[a + 2]};
-    double len = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-    if (len > kTiny) {
-      const double inv = 1 / len;
-      u[0] *= inv, u[1] *= inv, u[2] *= inv;
-    } else {
-      const Eigen::Vector3d d = spring_direction(l, s, x, &len);
-      u[0] = d.x(), u[1] = d.y(), u[2] = d.z();
-    }
+    double u[3];
+    const double len = spring_axis(l, s, x, u);
     const double rate = u[0] * (V[b] - V[a]) + u[1] * (V[b + 1] - V[a + 1]) + u[2] * (V[b + 2] - V[a + 2]);
     const double mag = s.k * (len - s.rest) + s.b * rate;
     for (int c = 0; c < 3; ++c) {

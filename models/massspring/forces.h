@@ -1,6 +1,7 @@
 // Forces, energy and their derivatives for a lattice (000 eq 8-13, 001 eq 2).
 #pragma once
 
+#include <cmath>
 #include <vector>
 
 #include <Eigen/Core>
@@ -21,6 +22,23 @@ struct PointForce {
 // direction is undefined; the rest direction is used so that a collapsed
 // lattice expands the way it was built (zero for zero-length springs).
 Eigen::Vector3d spring_direction(const Lattice& lattice, const Spring& s, const Eigen::Matrix3Xd& x, double* length);
+
+// The same as spring_direction into u[3], returning the length; inline for
+// the force loops, which call it once per spring per evaluation.
+inline double spring_axis(const Lattice& lattice, const Spring& s, const Eigen::Matrix3Xd& x, double u[3]) {
+  const double* X = x.data();
+  const int a = 3 * s.i, b = 3 * s.j;
+  u[0] = X[b] - X[a], u[1] = X[b + 1] - X[a + 1], u[2] = X[b + 2] - X[a + 2];
+  double len = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+  if (len > 1e-12) {
+    const double inv = 1 / len;
+    u[0] *= inv, u[1] *= inv, u[2] *= inv;
+  } else {
+    const Eigen::Vector3d d = spring_direction(lattice, s, x, &len);
+    u[0] = d.x(), u[1] = d.y(), u[2] = d.z();
+  }
+  return len;
+}
 
 // Adds to f (3 x n, N) the forces of `springs` (indices into
 // lattice.springs) on both their ends, and for `masses` the drag, gravity

@@ -247,22 +247,14 @@ struct Simulator::Impl {
   // where no spring has a damper.
   template <bool kDampers, bool kEnergy>
   void spring_forces(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v) {
-    const double* X = x.data();
     const double* V = v.data();
     double* SF = spring_force.data();
     double* SE = spring_elastic.data();
     for (const int si : springs) {
       const Spring& s = lat.springs[si];
       const int a = 3 * s.i, b = 3 * s.j;
-      double u[3] = {X[b] - X[a], X[b + 1] - X[a + 1], X[b + 2] - X[a + 2]};
-      double len = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-      if (len > 1e-12) {
-        const double inv = 1 / len;
-        u[0] *= inv, u[1] *= inv, u[2] *= inv;
-      } else {
-        const Eigen::Vector3d d = spring_direction(lat, s, x, &len);
-        u[0] = d.x(), u[1] = d.y(), u[2] = d.z();
-      }
+      double u[3];
+      const double len = spring_axis(lat, s, x, u);
       const double stretch = len - s.rest;
       double mag = s.k * stretch;
       if (kDampers) mag += s.b * (u[0] * (V[b] - V[a]) + u[1] * (V[b + 1] - V[a + 1]) + u[2] * (V[b + 2] - V[a + 2]));
