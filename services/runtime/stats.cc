@@ -29,6 +29,10 @@ double Window::percentile(double q) const {
   return scratch_[rank];
 }
 
+std::size_t Window::count_at_most(double v) const {
+  return std::size_t(std::count_if(values_.begin(), values_.begin() + size(), [v](double x) { return x <= v; }));
+}
+
 void Window::clear() {
   next_ = 0;
   full_ = false;

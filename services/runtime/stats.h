@@ -14,6 +14,8 @@ class Window {
   void add(double value);
   // q in [0, 1]; NaN when empty.
   double percentile(double q) const;
+  // How many of the values are <= v.
+  std::size_t count_at_most(double v) const;
   std::size_t size() const { return full_ ? values_.size() : next_; }
   void clear();
 

@@ -14,6 +14,8 @@ TEST(Window, NearestRankPercentiles) {
   EXPECT_EQ(w.percentile(0.99), 99);
   EXPECT_EQ(w.percentile(1.0), 100);
   EXPECT_EQ(w.percentile(0.0), 1);
+  EXPECT_EQ(w.count_at_most(37), 37u);
+  EXPECT_EQ(w.count_at_most(0.5), 0u);
 }
 
 TEST(Window, KeepsOnlyTheLatestValues) {
@@ -22,6 +24,7 @@ TEST(Window, KeepsOnlyTheLatestValues) {
   EXPECT_EQ(w.size(), 4u);
   EXPECT_EQ(w.percentile(0.0), 7);
   EXPECT_EQ(w.percentile(1.0), 10);
+  EXPECT_EQ(w.count_at_most(8), 2u);
 }
 
 TEST(Window, EmptyAndClearedAreNaN) {
