@@ -3,10 +3,10 @@
 // source (waiting up to `answer_wait` for the answers to this tick), sums
 // each source's latest, passes the sum through the passivity controller
 // and outputs it, clamped. Params: docs/haptic.md.
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <memory>
-#include <set>
 #include <vector>
 
 #include "device/haptic_idl.h"
@@ -84,6 +84,7 @@ int run(int argc, char** argv) {
   Eigen::Vector3d applied = Eigen::Vector3d::Zero();
   std::uint64_t seq = 0;
   std::uint64_t on_time = 0, with_sources = 0;  // ticks answered in time, of those with every source matched
+  std::vector<std::string> answered;            // sources that answered this tick (reused: no allocation per tick)
   const int status = svc.run([&](const Tick& tick) {
     const device::Frame f = omni.begin_frame();
     const double now = tick.sim_time_ns * 1e-9;
@@ -91,13 +92,15 @@ int run(int argc, char** argv) {
     const std::int64_t sent = mono_ns();
     rtt.sent(seq, sent);
     out.write(hs);
-    std::set<std::string> answered;
+    answered.clear();
     auto take = [&] {
       in.take([&](const ForceFeedback& s) {
         if (s.device().to_string() != name) return;
-        sum.set(s.source().to_string(), device::from_idl(s.force()), now);
         rtt.answered(s.answers_seq(), mono_ns());
-        if (s.answers_seq() == seq) answered.insert(s.source().to_string());
+        const std::string from = s.source().to_string();
+        sum.set(from, device::from_idl(s.force()), now);
+        if (s.answers_seq() == seq && std::find(answered.begin(), answered.end(), from) == answered.end())
+          answered.push_back(from);
       });
     };
     take();
