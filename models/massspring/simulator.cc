@@ -42,7 +42,8 @@ struct Simulator::Impl {
   int substeps = 1;
   bool adaptive = false;
   bool dampers = false;             // whether any spring has b > 0
-  std::vector<double> inv_mass;     // 1/kg, 0 for anchored masses
+  std::vector<double> inv_mass;     // 1/kg, 0 for anchored and held masses
+  std::vector<std::uint8_t> anchored, held;  // the lattice's own anchors; held by the caller
   std::vector<double> decay, half;  // exact drag decay over a substep and half of one
 
   // The simulated set, kept up to date as masses activate and retire
@@ -74,8 +75,11 @@ struct Simulator::Impl {
   std::vector<int> factored;
   Eigen::MatrixX3d base, rhs, delta;
 
+  // lat.anchored is the union of the lattice's anchors and the held masses.
   Impl(Lattice l, const Options& o) : lat(std::move(l)), opt(o), adj(lat) {
     const int n = lat.size();
+    anchored = lat.anchored;
+    held.assign(n, 0);
     inv_mass.resize(n);
     for (int i = 0; i < n; ++i) inv_mass[i] = lat.anchored[i] ? 0 : 1 / lat.mass[i];
     active.assign(n, 0);
@@ -117,18 +121,35 @@ struct Simulator::Impl {
 
   // A mass that leaves the set stops where it is.
   void leave(int i, State& s) {
-    if (lat.anchored[i]) return;
+    if (slot[i] < 0) return;
+    remove(i);
+    s.v.col(i).setZero();
+  }
+
+  void remove(int i) {
     const int k = slot[i];
     masses[k] = masses.back(), slot[masses[k]] = k, masses.pop_back();
     ++moved;
     slot[i] = -1;
-    s.v.col(i).setZero();
     for (int e = adj.start[i]; e < adj.start[i + 1]; ++e) {
       const int si = adj.spring[e];
       if (--ends[si] > 0) continue;
       const int q = spring_slot[si];
       springs[q] = springs.back(), spring_slot[springs[q]] = q, springs.pop_back();
       spring_slot[si] = -1;
+    }
+  }
+
+  void hold(int i, bool on) {
+    if (held[i] == on) return;
+    held[i] = on;
+    lat.anchored[i] = on;
+    inv_mass[i] = on ? 0 : 1 / lat.mass[i];
+    if (on) {
+      if (slot[i] >= 0) remove(i);
+      if (adaptive && !active[i]) activate(i);
+    } else if (!adaptive || cover[i] > 0) {
+      enter(i);
     }
   }
 
@@ -155,7 +176,7 @@ struct Simulator::Impl {
         std::fill(active.begin(), active.end(), 0);
         std::fill(cover.begin(), cover.end(), 0);
         for (int i = 0; i < lat.size(); ++i)
-          if (!lat.anchored[i] && s.quiet[i] < opt.retire_steps) activate(i);
+          if (held[i] || (!lat.anchored[i] && s.quiet[i] < opt.retire_steps)) activate(i);
         seen_quiet = s.quiet;
       }
       for (const PointForce& p : in)
@@ -510,6 +531,31 @@ StepInfo Simulator::step(State& s, const std::vector<PointForce>& loads) {
   info.simulated = int(m.masses.size());
   info.active = m.adaptive ? m.retire(s) : info.simulated;
   return info;
+}
+
+void Simulator::hold(int i, bool on) {
+  Impl& m = *impl_;
+  if (i < 0 || i >= m.lat.size())
+    throw std::invalid_argument("massspring: cannot hold mass " + std::to_string(i) + ", lattice has " +
+                                std::to_string(m.lat.size()));
+  if (m.anchored[i]) throw std::invalid_argument("massspring: mass " + std::to_string(i) + " is anchored, not free to hold");
+  m.hold(i, on);
+}
+
+bool Simulator::held(int i) const { return i >= 0 && i < impl_->lat.size() && impl_->held[i]; }
+
+Eigen::Vector3d Simulator::spring_force(int i, const State& s) const {
+  const Impl& m = *impl_;
+  Eigen::Vector3d f = Eigen::Vector3d::Zero();
+  for (int e = m.adj.start[i]; e < m.adj.start[i + 1]; ++e) {
+    const Spring& sp = m.lat.springs[m.adj.spring[e]];
+    double u[3];
+    const double len = spring_axis(m.lat, sp, s.x, u);
+    const Eigen::Vector3d axis(u[0], u[1], u[2]);
+    const double mag = sp.k * (len - sp.rest) + sp.b * axis.dot(s.v.col(sp.j) - s.v.col(sp.i));
+    f += m.adj.sign[e] * mag * axis;
+  }
+  return f;
 }
 
 const Lattice& Simulator::lattice() const { return impl_->lat; }

@@ -69,7 +69,20 @@ class Simulator {
   // state ever became non-finite (it is then left as before the step).
   StepInfo step(State& state, const std::vector<PointForce>& loads);
 
-  const Lattice& lattice() const;
+  // Holds or releases a free mass. A held mass is kinematic: steps leave it
+  // where the State puts it (its velocity there drives the spring dampers),
+  // as the moved chains of the hybrid model and the stylus's contact vertex
+  // need; in the adaptive model it counts as active, so its neighbours are
+  // simulated. Throws std::invalid_argument for a missing or anchored mass.
+  void hold(int mass, bool held);
+  bool held(int mass) const;
+
+  // N: the net spring and damper force on `mass` in `state`, which a held
+  // mass passes to whatever holds it (its negation is the force on the
+  // stylus holding it).
+  Eigen::Vector3d spring_force(int mass, const State& state) const;
+
+  const Lattice& lattice() const;  // its anchors include the held masses
   const Options& options() const;
   const Spectrum& spectrum() const;
   double stable_step() const;  // s; +infinity for implicit integrators
