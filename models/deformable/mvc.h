@@ -36,4 +36,14 @@ Weights trilinear_weights(int nx, int ny, int nz, double spacing, const Eigen::V
 // The points of `w` for cage positions x (3 x n).
 Eigen::Matrix3Xd apply(const Weights& w, const Eigen::Matrix3Xd& x);
 
+// The same map by columns, for displacements: rest_points + u W^T, reading
+// only the columns of cage vertices whose displacement u (3 x n) exceeds
+// `tolerance` (m, per coordinate), so that a local dent costs what it
+// moves, not the whole mesh. Equal to apply(W, rest + u) wherever W
+// reproduces rest_points, to within tolerance times the largest row sum
+// of |W| (1 for mean value coordinates inside a convex cage).
+using ColumnWeights = Eigen::SparseMatrix<double, Eigen::ColMajor>;
+Eigen::Matrix3Xd apply_moved(const ColumnWeights& w, const Eigen::Matrix3Xd& rest_points, const Eigen::Matrix3Xd& u,
+                             double tolerance = 0);
+
 }  // namespace hcosim::deformable

@@ -77,9 +77,8 @@ class Simulator {
   void hold(int mass, bool held);
   bool held(int mass) const;
 
-  // N: the net spring and damper force on `mass` in `state`, which a held
-  // mass passes to whatever holds it (its negation is the force on the
-  // stylus holding it).
+  // N: the net spring and damper force on `mass` in `state`. A held mass at
+  // rest passes it whole to what holds it: it is the force on the stylus.
   Eigen::Vector3d spring_force(int mass, const State& state) const;
 
   const Lattice& lattice() const;  // its anchors include the held masses

@@ -33,6 +33,27 @@ Eigen::Matrix3Xd probe_points() {
   return p;
 }
 
+// Points from 1e-12 to 1e-3 off a face, on both sides, where the closed
+// formula divides by the sine of a vanishing angle. Near enough, a point
+// takes its projection's barycentric weights: the error is then at most
+// its distance, and nowhere a loss of precision.
+TEST(MeanValueCoordinates, NearFacePointsKeepLinearPrecision) {
+  const Cage c = cube();
+  std::vector<Eigen::Vector3d> pts;
+  for (double d = 1e-12; d <= 1e-3; d *= 10)
+    for (const double side : {-1.0, 1.0})
+      for (const Eigen::Vector2d xy : {Eigen::Vector2d(0.37, 0.61), Eigen::Vector2d(0.5, 0.5), Eigen::Vector2d(0.03, 0.2)})
+        pts.emplace_back(xy.x(), xy.y(), side * d);
+  Eigen::Matrix3Xd p(3, pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i) p.col(i) = pts[i];
+  const Weights w = mean_value_weights(c.x, c.t, p);
+  const Eigen::Matrix3Xd got = apply(w, c.x);
+  for (int i = 0; i < p.cols(); ++i) {
+    const double d = std::abs(p(2, i));
+    EXPECT_LE((got.col(i) - p.col(i)).norm(), d < 1e-4 ? d + 1e-12 : 1e-9) << "point " << p.col(i).transpose();
+  }
+}
+
 TEST(MeanValueCoordinates, ReproduceLinearFunctionsEverywhere) {
   const Cage c = cube();
   const Eigen::Matrix3Xd p = probe_points();

@@ -1,0 +1,68 @@
+// Seed 000's elastic objects (000 §2.2, Fig 7): a plane sheet held in a
+// frame and a semi-sphere on its base ring, pure mass-spring surfaces
+// touched by the stylus at one vertex. The contacted vertex is held at the
+// haptic point; the springs around it pass the deformation on, and their
+// pull on it is the force on the stylus. No S-Chain: the behavior model
+// runs at the servo rate.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "deformable/object.h"
+#include "massspring/simulator.h"
+
+namespace hcosim::deformable {
+
+enum class Shape { sheet, semisphere };
+const char* name(Shape shape);
+
+struct SurfaceSpec {
+  Shape shape = Shape::sheet;
+  int resolution = 21;   // sheet: masses per edge; semi-sphere: latitude rings (4 x as many segments)
+  double size = 0.1;     // m: sheet edge, or semi-sphere radius
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // m, world: sheet centre, or semi-sphere base centre
+  massspring::Material material{1e-3, 20, 0.02, 0.01};
+  // Sheet: its springs' rest lengths are (1 - prestretch) times their
+  // length in the frame, so it is taut. A slack membrane has no linear
+  // stiffness out of its plane: pressed, it creeps back over seconds.
+  double prestretch = 0.05;
+  massspring::Options options = [] {
+    massspring::Options o;
+    o.integrator = massspring::Integrator::symplectic_euler;
+    return o;
+  }();  // options.dt is the servo period
+};
+
+class ElasticSurface final : public Object {
+ public:
+  // Throws std::invalid_argument for a bad spec.
+  explicit ElasticSurface(const SurfaceSpec& spec);
+
+  // The HIP touches when it crosses the rest surface from outside (sheet:
+  // from +z, within the frame; semi-sphere: into the dome); the free vertex
+  // nearest the crossing is held at the HIP until it is back outside that
+  // vertex's rest tangent plane (or, with `grab`, until grab ends). Then
+  // one behavior step. dt must equal options.dt.
+  Touch touch(double dt, const Eigen::Vector3d& hip, bool grab) override;
+  double behavior_dt() const override { return 0; }
+  void advance() override {}
+  Eigen::Matrix3Xd surface() const override { return state_.x; }
+  const std::vector<Eigen::Vector3i>& triangles() const override { return triangles_; }
+
+  const massspring::Simulator& behavior() const { return *sim_; }
+  const massspring::State& state() const { return state_; }
+  int contact() const { return contact_; }
+
+ private:
+  bool inside(const Eigen::Vector3d& hip) const;
+  Eigen::Vector3d rest_normal(int vertex) const;
+
+  SurfaceSpec spec_;
+  std::unique_ptr<massspring::Simulator> sim_;
+  massspring::State state_;
+  std::vector<Eigen::Vector3i> triangles_;
+  int contact_ = -1;
+};
+
+}  // namespace hcosim::deformable

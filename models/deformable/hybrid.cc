@@ -1,0 +1,168 @@
+#include "deformable/hybrid.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "deformable/surface.h"
+
+namespace hcosim::deformable {
+
+namespace {
+
+void need(bool ok, const std::string& what) {
+  if (!ok) throw std::invalid_argument("hybrid: " + what);
+}
+
+bool stiff_side(const HybridSpec& s, const Eigen::Vector3d& rest_from_corner) {
+  return s.stiff_ratio != 1 && rest_from_corner.x() > 0.5 * s.size + 1e-9;
+}
+
+Eigen::Vector3d corner(const HybridSpec& s) { return s.centre - Eigen::Vector3d::Constant(0.5 * s.size); }
+
+}  // namespace
+
+const char* name(VisualMap m) {
+  switch (m) {
+    case VisualMap::mvc: return "mvc";
+    case VisualMap::mvc_sparse: return "mvc_sparse";
+    case VisualMap::trilinear: return "trilinear";
+  }
+  return "?";
+}
+
+VisualMap parse_visual_map(const std::string& s) {
+  for (VisualMap m : {VisualMap::mvc, VisualMap::mvc_sparse, VisualMap::trilinear})
+    if (s == name(m)) return m;
+  throw std::invalid_argument("unknown visual map '" + s + "': one of mvc, mvc_sparse, trilinear");
+}
+
+void check(const HybridSpec& s) {
+  need(s.elements >= 3 && s.elements <= 100, "elements must be in [3, 100] per edge");
+  need(s.size > 0 && std::isfinite(s.size), "size must be finite and > 0");
+  need(s.centre.allFinite(), "centre must be finite");
+  need(s.stiff_ratio >= 1 && s.stiff_ratio <= 100, "stiff_ratio must be in [1, 100]");
+  need(s.visual_subdivisions >= 1 && s.visual_subdivisions <= 1000, "visual_subdivisions must be in [1, 1000]");
+  need(s.keep > 0 && s.keep <= 1, "keep must be in (0, 1]");
+  need(s.visual_tolerance >= 0 && s.visual_tolerance < s.size, "visual_tolerance must be in [0, size)");
+}
+
+ChainLattice hybrid_chains(const HybridSpec& s) {
+  check(s);
+  const int n = s.elements;
+  ChainLattice l = make_chain_box(n, n, n, s.size / (n - 1), s.chain);
+  l.origin = corner(s);
+  ChainMaterial hard = s.chain;
+  hard.stiffness *= s.stiff_ratio;
+  for (double* r : {&hard.stretch, &hard.compress, &hard.shear}) *r /= s.stiff_ratio;
+  for (int e = 0; e < l.size(); ++e) {
+    if (stiff_side(s, l.rest(e) - l.origin)) l.material[e] = hard;
+    l.anchored[e] = e < n * n;  // the bottom layer, k = 0
+  }
+  return l;
+}
+
+massspring::Lattice hybrid_masses(const HybridSpec& s) {
+  check(s);
+  const int n = s.elements;
+  massspring::Lattice l = massspring::make_box(n, n, n, s.size / (n - 1), s.material);
+  for (massspring::Spring& sp : l.springs)
+    if (stiff_side(s, l.rest.col(sp.i)) && stiff_side(s, l.rest.col(sp.j))) sp.k *= s.stiff_ratio;
+  for (int i = 0; i < l.size(); ++i) l.anchored[i] = i < n * n;
+  l.rest.colwise() += corner(s);
+  return l;
+}
+
+Eigen::Vector3d behavior_static_force(const HybridSpec& spec, int mass, const Eigen::Vector3d& displacement) {
+  massspring::Options o;
+  o.integrator = massspring::Integrator::implicit_euler;
+  o.dt = 0.01;  // s: 40 steps of several times the slowest period, each damping it
+  massspring::Simulator sim(hybrid_masses(spec), o);
+  massspring::State s = massspring::rest_state(sim.lattice());
+  need(mass >= 0 && mass < sim.lattice().size(), "no mass " + std::to_string(mass));
+  need(displacement.allFinite(), "the displacement must be finite");
+  s.x.col(mass) += displacement;
+  sim.hold(mass, true);
+  Eigen::Vector3d last = Eigen::Vector3d::Constant(1e300);
+  for (int k = 0; k < 1000; ++k) {
+    sim.step(s, {});
+    const Eigen::Vector3d f = sim.spring_force(mass, s);
+    if ((f - last).norm() <= 1e-9 * f.norm()) break;
+    last = f;
+  }
+  return sim.spring_force(mass, s);
+}
+
+Hybrid::Hybrid(const HybridSpec& spec)
+    : spec_(spec), chains_(hybrid_chains(spec), spec.relax_rate, spec.limit_stiffness) {
+  masses_ = std::make_unique<massspring::Simulator>(hybrid_masses(spec), spec.behavior);
+  state_ = massspring::rest_state(masses_->lattice());
+  lo_ = corner(spec), hi_ = lo_ + Eigen::Vector3d::Constant(spec.size);
+  visual_ = rounded_box(spec.visual_subdivisions, lo_, hi_, spec.visual_exponent);
+  const int n = spec.elements;
+  const massspring::Lattice& lat = masses_->lattice();
+  if (spec.map == VisualMap::trilinear) {
+    for (int i = 0; i < lat.size(); ++i) cage_.push_back(i);
+    weights_ = trilinear_weights(n, n, n, spec.size / (n - 1), lo_, visual_.vertices);
+  } else {
+    const GridSurface g = grid_surface(n, n, n);
+    cage_ = g.nodes;
+    Eigen::Matrix3Xd cage(3, cage_.size());
+    for (std::size_t v = 0; v < cage_.size(); ++v) cage.col(v) = lat.rest.col(cage_[v]);
+    weights_ = mean_value_weights(cage, g.triangles, visual_.vertices);
+    if (spec.map == VisualMap::mvc_sparse) weights_ = truncate(weights_, spec.keep);
+  }
+  columns_ = weights_;
+}
+
+Touch Hybrid::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
+  need(dt > 0 && std::isfinite(dt), "dt must be finite and > 0");
+  need(hip.allFinite(), "the haptic point must be finite");
+  const bool inside = (hip.array() >= lo_.array()).all() && (hip.array() <= hi_.array()).all();
+  if (contact_ < 0 && inside) {
+    contact_ = chains_.nearest_surface(hip);
+    // The face entered: the one nearest the entry point.
+    double best = 1e300;
+    for (int c = 0; c < 3; ++c)
+      for (const int side : {-1, 1}) {
+        const double d = side > 0 ? hi_[c] - hip[c] : hip[c] - lo_[c];
+        if (d < best) best = d, normal_ = side * Eigen::Vector3d::Unit(c);
+      }
+  } else if (contact_ >= 0 && !inside && !grab) {
+    contact_ = -1;
+  }
+  visited_ = chains_.tick(dt, contact_, hip);
+  Touch t;
+  t.force = chains_.force();
+  if (contact_ < 0) return t;
+  t.in_contact = true;
+  t.depth = std::max(0.0, (chains_.lattice().rest(contact_) - hip).dot(normal_));
+  t.stiffness = t.depth > 1e-9 ? std::max(0.0, t.force.dot(normal_)) / t.depth : 0;
+  return t;
+}
+
+void Hybrid::advance() {
+  const double dt = spec_.behavior.dt;
+  // Chains that came back to rest let their masses go, still.
+  for (const int i : held_)
+    if (chains_.displacement(i).isZero()) masses_->hold(i, false), state_.v.col(i).setZero();
+  held_.clear();
+  for (const int e : chains_.moved()) {
+    if (chains_.lattice().anchored[e]) continue;
+    const Eigen::Vector3d x = chains_.lattice().rest(e) + chains_.displacement(e);
+    state_.v.col(e) = (x - state_.x.col(e)) / dt;
+    state_.x.col(e) = x;
+    if (!masses_->held(e)) masses_->hold(e, true);
+    held_.push_back(e);
+  }
+  simulated_ = masses_->step(state_, {}).simulated;
+}
+
+Eigen::Matrix3Xd Hybrid::surface() const {
+  const massspring::Lattice& lat = masses_->lattice();
+  Eigen::Matrix3Xd u(3, cage_.size());
+  for (std::size_t v = 0; v < cage_.size(); ++v) u.col(v) = state_.x.col(cage_[v]) - lat.rest.col(cage_[v]);
+  return apply_moved(columns_, visual_.vertices, u, spec_.visual_tolerance);
+}
+
+}  // namespace hcosim::deformable

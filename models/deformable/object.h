@@ -1,0 +1,37 @@
+// A deformable object as the deformable service drives it: touched by the
+// haptic interface point every servo tick, advanced at its behavior rate,
+// and read as a surface at the visual rate (001 Fig 4, 6).
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace hcosim::deformable {
+
+// The answer to one haptic tick.
+struct Touch {
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();  // N, on the stylus, world frame
+  bool in_contact = false;
+  double depth = 0;      // m, >= 0: how far the HIP is past the rest surface
+  double stiffness = 0;  // N/m, >= 0: normal force over depth, the contact's secant stiffness
+};
+
+class Object {
+ public:
+  virtual ~Object() = default;
+  // One servo tick of dt seconds with the HIP at `hip` (world frame, m);
+  // `grab` keeps the contact while the HIP leaves the object, so that the
+  // user can pull it (001 Fig 5b). Throws std::invalid_argument for a
+  // non-finite hip or dt.
+  virtual Touch touch(double dt, const Eigen::Vector3d& hip, bool grab) = 0;
+  // The behavior model's step, s (0: it advances within touch()).
+  virtual double behavior_dt() const = 0;
+  // One behavior step.
+  virtual void advance() = 0;
+  // The visual surface now: vertex positions (m, world) in the order of triangles().
+  virtual Eigen::Matrix3Xd surface() const = 0;
+  virtual const std::vector<Eigen::Vector3i>& triangles() const = 0;
+};
+
+}  // namespace hcosim::deformable

@@ -1,0 +1,79 @@
+#include "deformable/surface.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Geometry>
+
+namespace hcosim::deformable {
+
+GridSurface grid_surface(int nx, int ny, int nz) {
+  if (nx < 2 || ny < 2 || nz < 2) throw std::invalid_argument("grid_surface: needs at least 2 nodes per side");
+  const int n[3] = {nx, ny, nz};
+  auto id = [&](const int c[3]) { return c[0] + nx * (c[1] + ny * c[2]); };
+  GridSurface s;
+  std::vector<int> local(std::size_t(nx) * ny * nz, -1);
+  auto vertex = [&](const int c[3]) {
+    int& v = local[id(c)];
+    if (v < 0) v = int(s.nodes.size()), s.nodes.push_back(id(c));
+    return v;
+  };
+  // Face normal to axis a at side 0 or n[a]-1; (b, c) is ordered so that
+  // b x c points outward, which makes each square's corners
+  // counter-clockwise seen from outside.
+  for (int a = 0; a < 3; ++a)
+    for (int side = 0; side < 2; ++side) {
+      int b = (a + 1) % 3, c = (a + 2) % 3;
+      if (side == 0) std::swap(b, c);
+      for (int v = 0; v + 1 < n[c]; ++v)
+        for (int u = 0; u + 1 < n[b]; ++u) {
+          int p[4][3];
+          const int du[4] = {0, 1, 1, 0}, dv[4] = {0, 0, 1, 1};
+          for (int q = 0; q < 4; ++q) p[q][a] = side ? n[a] - 1 : 0, p[q][b] = u + du[q], p[q][c] = v + dv[q];
+          const int w[4] = {vertex(p[0]), vertex(p[1]), vertex(p[2]), vertex(p[3])};
+          s.triangles.emplace_back(w[0], w[1], w[2]);
+          s.triangles.emplace_back(w[0], w[2], w[3]);
+        }
+    }
+  return s;
+}
+
+massspring::TriangleMesh rounded_box(int subdivisions, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                                     double exponent) {
+  if (subdivisions < 1) throw std::invalid_argument("rounded_box: subdivisions must be >= 1");
+  if (!(exponent >= 2) || !std::isfinite(exponent)) throw std::invalid_argument("rounded_box: exponent must be finite and >= 2");
+  if (!(hi.array() > lo.array()).all() || !lo.allFinite() || !hi.allFinite())
+    throw std::invalid_argument("rounded_box: hi must exceed lo on every axis");
+  const int k = subdivisions + 1;
+  const GridSurface g = grid_surface(k, k, k);
+  massspring::TriangleMesh m;
+  m.triangles = g.triangles;
+  m.vertices.resize(3, g.nodes.size());
+  const Eigen::Vector3d centre = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+  for (std::size_t v = 0; v < g.nodes.size(); ++v) {
+    const int node = g.nodes[v];
+    // The grid node on the cube [-1, 1]^3, pushed radially onto the surface.
+    const Eigen::Vector3d q = Eigen::Vector3d(node % k, (node / k) % k, node / (k * k)) * (2.0 / subdivisions) -
+                              Eigen::Vector3d::Ones();
+    const double r = std::pow(q.cwiseAbs().array().pow(exponent).sum(), 1 / exponent);
+    m.vertices.col(v) = centre + half.cwiseProduct(q / r);
+  }
+  return m;
+}
+
+Eigen::Matrix3Xd vertex_normals(const Eigen::Matrix3Xd& x, const std::vector<Eigen::Vector3i>& triangles) {
+  Eigen::Matrix3Xd n = Eigen::Matrix3Xd::Zero(3, x.cols());
+  for (const Eigen::Vector3i& t : triangles) {
+    // Twice the area times the unit normal: larger triangles weigh more.
+    const Eigen::Vector3d a = (x.col(t[1]) - x.col(t[0])).cross(x.col(t[2]) - x.col(t[0]));
+    n.col(t[0]) += a, n.col(t[1]) += a, n.col(t[2]) += a;
+  }
+  for (int v = 0; v < n.cols(); ++v) {
+    const double len = n.col(v).norm();
+    if (len > 0 && std::isfinite(len)) n.col(v) /= len;
+    else n.col(v) = Eigen::Vector3d::UnitZ();
+  }
+  return n;
+}
+
+}  // namespace hcosim::deformable

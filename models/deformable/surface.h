@@ -1,0 +1,38 @@
+// Surfaces of the hybrid model: the behavior lattice's boundary as the
+// mapping cage, the dense visual mesh (001 Fig 7: 5402 vertices and 10800
+// triangles at 30 subdivisions), and per-vertex normals for display.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "massspring/mesh_lattice.h"
+
+namespace hcosim::deformable {
+
+// The boundary of an nx x ny x nz grid (node i + nx (j + ny k)) as a closed
+// triangle mesh: its nodes and triangles indexing into `nodes`,
+// counter-clockwise seen from outside. (nx ny nz - (nx-2)(ny-2)(nz-2))
+// nodes, two triangles per boundary square. Throws std::invalid_argument
+// for fewer than 2 nodes per side.
+struct GridSurface {
+  std::vector<int> nodes;
+  std::vector<Eigen::Vector3i> triangles;
+};
+GridSurface grid_surface(int nx, int ny, int nz);
+
+// A box from `lo` to `hi` (m) with rounded edges and corners: the
+// superellipsoid |x|^p + |y|^p + |z|^p = 1 in the box's normalised frame,
+// p = `exponent` (2: ellipsoid; large: the box itself), meshed as a cube
+// of `subdivisions` squares per edge projected onto it: 6 s^2 + 2 vertices,
+// 12 s^2 triangles. Its face centres touch the box. Throws
+// std::invalid_argument for subdivisions < 1, exponent < 2 or an empty box.
+massspring::TriangleMesh rounded_box(int subdivisions, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                                     double exponent);
+
+// Unit area-weighted vertex normals of a triangle mesh at positions x; a
+// vertex whose triangles all collapsed gets +z rather than NaN.
+Eigen::Matrix3Xd vertex_normals(const Eigen::Matrix3Xd& x, const std::vector<Eigen::Vector3i>& triangles);
+
+}  // namespace hcosim::deformable
