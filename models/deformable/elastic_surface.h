@@ -47,7 +47,8 @@ class ElasticSurface final : public Object {
   Touch touch(double dt, const Eigen::Vector3d& hip, bool grab) override;
   double behavior_dt() const override { return 0; }
   void advance() override {}
-  Eigen::Matrix3Xd surface() const override { return state_.x; }
+  Eigen::Matrix3Xd cage() const override { return state_.x; }
+  Eigen::Matrix3Xd surface_from(const Eigen::Matrix3Xd& cage) const override { return cage; }
   const std::vector<Eigen::Vector3i>& triangles() const override { return triangles_; }
 
   const massspring::Simulator& behavior() const { return *sim_; }

@@ -158,10 +158,14 @@ void Hybrid::advance() {
   simulated_ = masses_->step(state_, {}).simulated;
 }
 
-Eigen::Matrix3Xd Hybrid::surface() const {
+Eigen::Matrix3Xd Hybrid::cage() const {
   const massspring::Lattice& lat = masses_->lattice();
   Eigen::Matrix3Xd u(3, cage_.size());
   for (std::size_t v = 0; v < cage_.size(); ++v) u.col(v) = state_.x.col(cage_[v]) - lat.rest.col(cage_[v]);
+  return u;
+}
+
+Eigen::Matrix3Xd Hybrid::surface_from(const Eigen::Matrix3Xd& u) const {
   return apply_moved(columns_, visual_.vertices, u, spec_.visual_tolerance);
 }
 

@@ -47,7 +47,9 @@ struct HybridSpec {
   double visual_exponent = 8;    // rounding of the visual box's edges (rounded_box)
   VisualMap map = VisualMap::mvc_sparse;
   double keep = 0.999;           // mvc_sparse: share of each row's weight kept
-  double visual_tolerance = 1e-6;  // m: cage motions below this are not mapped (apply_moved)
+  // m: cage motions below this are not mapped (apply_moved); 10 um is a
+  // hundredth of a pixel for a 600 px focal length at 0.5 m.
+  double visual_tolerance = 1e-5;
 };
 
 // Throws std::invalid_argument naming the first bad field.
@@ -76,10 +78,12 @@ class Hybrid final : public Object {
   // Holds each moved chain's mass at the chain's position and releases the
   // masses whose chains came back to rest, then steps the behavior model.
   void advance() override;
-  // The visual rest mesh plus the map of the cage's displacement, reading
-  // only the cage vertices that moved (apply_moved); exactly the rest mesh
-  // at rest, whatever the map's precision.
-  Eigen::Matrix3Xd surface() const override;
+  // cage(): the displacements of the masses the map reads. surface_from:
+  // the visual rest mesh plus their map, reading only the cage vertices
+  // that moved (apply_moved); exactly the rest mesh at rest, whatever the
+  // map's precision.
+  Eigen::Matrix3Xd cage() const override;
+  Eigen::Matrix3Xd surface_from(const Eigen::Matrix3Xd& cage) const override;
   const std::vector<Eigen::Vector3i>& triangles() const override { return visual_.triangles; }
 
   const HybridSpec& spec() const { return spec_; }

@@ -29,8 +29,14 @@ class Object {
   virtual double behavior_dt() const = 0;
   // One behavior step.
   virtual void advance() = 0;
-  // The visual surface now: vertex positions (m, world) in the order of triangles().
-  virtual Eigen::Matrix3Xd surface() const = 0;
+  // What the visual surface depends on, copied (cheap: the behavior
+  // model's positions that the visual map reads), and the surface it gives:
+  // vertex positions (m, world) in the order of triangles(). surface_from
+  // reads nothing that touch() or advance() change, so it may run on
+  // another thread while they do.
+  virtual Eigen::Matrix3Xd cage() const = 0;
+  virtual Eigen::Matrix3Xd surface_from(const Eigen::Matrix3Xd& cage) const = 0;
+  Eigen::Matrix3Xd surface() const { return surface_from(cage()); }
   virtual const std::vector<Eigen::Vector3i>& triangles() const = 0;
 };
 

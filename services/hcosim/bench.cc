@@ -219,6 +219,7 @@ const std::vector<Suite>& suites() {
        dds_rows},
       massspring_suite(),
       haptic_suite(),
+      hybrid_suite(),
   };
   return all;
 }

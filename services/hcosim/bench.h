@@ -46,6 +46,9 @@ Suite massspring_suite();
 // The haptic device's closed loop, the stiff-wall rig: bench_haptic.cc.
 Suite haptic_suite();
 
+// The hybrid deformable model's parts and pipeline: bench_hybrid.cc.
+Suite hybrid_suite();
+
 // 1 kHz HapticState -> ForceFeedback round trips, us (bench.cc).
 struct Rtt {
   rt::Window us{1 << 20};

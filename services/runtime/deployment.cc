@@ -108,6 +108,11 @@ std::string Params::text(const std::string& key, const std::string& fallback,
   return v;
 }
 
+std::string Params::string(const std::string& key, const std::string& fallback) const {
+  if (!node_ || !node_[key]) return fallback;
+  return config_text(file_, node_[key], key);
+}
+
 std::string Params::path(const std::string& key) const {
   if (!node_ || !node_[key]) return "";
   std::filesystem::path p = config_text(file_, node_[key], key);
@@ -128,6 +133,22 @@ std::array<double, 3> Params::vec3(const std::string& key, const std::array<doub
   const YAML::Node n = node_[key];
   if (!n.IsSequence() || n.size() != 3) throw config_error(file_, n, "'" + key + "' must be [x, y, z]");
   return {config_number(file_, n[0], key), config_number(file_, n[1], key), config_number(file_, n[2], key)};
+}
+
+std::vector<Params> Params::list(const std::string& key) const {
+  std::vector<Params> out;
+  if (!node_ || !node_[key]) return out;
+  const YAML::Node n = node_[key];
+  if (!n.IsSequence()) throw config_error(file_, n, "'" + key + "' must be a list");
+  for (const YAML::Node& item : n) {
+    if (!item.IsMap()) throw config_error(file_, item, "each entry of '" + key + "' must be a map of keys");
+    out.emplace_back(file_, item);
+  }
+  return out;
+}
+
+void Params::fail(const std::string& key, const std::string& what) const {
+  throw config_error(file_, node_ && node_[key] ? node_[key] : node_, what);
 }
 
 void Params::allow_only(const std::vector<std::string>& allowed) const {

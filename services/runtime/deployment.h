@@ -52,6 +52,8 @@ class Params {
   double number(const std::string& key, double fallback, double lo, double hi) const;
   // The string at `key`, or `fallback` when absent; must be one of `allowed`.
   std::string text(const std::string& key, const std::string& fallback, const std::vector<std::string>& allowed) const;
+  // The string at `key`, or `fallback` when absent; any value.
+  std::string string(const std::string& key, const std::string& fallback) const;
   // The file path at `key`, relative paths taken from the deployment
   // file's folder; "" when absent. The file must exist.
   std::string path(const std::string& key) const;
@@ -60,6 +62,11 @@ class Params {
   std::string output_path(const std::string& key) const;
   // The [x, y, z] at `key`, or `fallback` when absent.
   std::array<double, 3> vec3(const std::string& key, const std::array<double, 3>& fallback) const;
+  // The maps of the list at `key`, each read as Params of its own; empty
+  // when absent. Throws unless it is a list of maps.
+  std::vector<Params> list(const std::string& key) const;
+  // Throws a ConfigError at this node naming `what`.
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const;
   // Throws if a key outside `allowed` is present.
   void allow_only(const std::vector<std::string>& allowed) const;
 

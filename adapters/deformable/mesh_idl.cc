@@ -1,0 +1,55 @@
+#include "deformable/mesh_idl.h"
+
+#include "deformable/surface.h"
+
+namespace hcosim::deformable {
+
+namespace {
+
+Vec3 vec(const Eigen::Vector3d& v) {
+  Vec3 out;
+  out.x(v.x()), out.y(v.y()), out.z(v.z());
+  return out;
+}
+
+}  // namespace
+
+ForceFeedback force_feedback(const std::string& source, const std::string& device, std::uint64_t seq,
+                             const StepStamp& stamp, const Touch& t) {
+  ForceFeedback f;
+  f.source(source);
+  f.device(device);
+  f.answers_seq(seq);
+  f.stamp(stamp);
+  f.force(vec(t.force));
+  f.in_contact(t.in_contact);
+  f.penetration_m(t.depth);
+  f.stiffness_n_per_m(t.stiffness);
+  return f;
+}
+
+MeshTopology mesh_topology(const std::string& mesh, int vertex_count, const std::vector<Eigen::Vector3i>& triangles) {
+  MeshTopology t;
+  t.mesh(mesh);
+  t.topology_version(1);
+  t.vertex_count(std::uint32_t(vertex_count));
+  t.triangles().reserve(3 * triangles.size());
+  for (const Eigen::Vector3i& f : triangles)
+    for (int i = 0; i < 3; ++i) t.triangles().push_back(std::uint32_t(f[i]));
+  return t;
+}
+
+void fill_mesh(DeformedMesh& out, const std::string& mesh, const StepStamp& stamp, const Eigen::Matrix3Xd& x,
+               const std::vector<Eigen::Vector3i>& triangles) {
+  out.mesh(mesh);
+  out.stamp(stamp);
+  out.topology_version(1);
+  const Eigen::Matrix3Xd n = vertex_normals(x, triangles);
+  auto& p = out.positions();
+  auto& q = out.normals();
+  p.resize(3 * x.cols()), q.resize(3 * x.cols());
+  Eigen::Map<Eigen::Matrix3Xf>(p.data(), 3, x.cols()) = x.cast<float>();
+  Eigen::Map<Eigen::Matrix3Xf>(q.data(), 3, x.cols()) = n.cast<float>();
+}
+
+}  // namespace hcosim::deformable

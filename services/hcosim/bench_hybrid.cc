@@ -1,0 +1,196 @@
+// bench hybrid: the hybrid deformable model of seed 001, per part and whole.
+//
+// schain_tick: the S-Chain haptic tick alone, pressing the top of a 10 cm
+//   cube of `elements` chains `depth` deep (a 200-tick ramp, then 300 ticks
+//   held); `moved` is the largest number of moved chains.
+// pipeline: the whole model as the service runs it: haptic tick, behavior
+//   step (1 kHz), and a visual frame every 33 ticks (map, normals, floats),
+//   over a press, hold and release. `seed` is 001 Fig 7's scale, `100x` a
+//   hundred times more chains, masses and visual vertices (trilinear map:
+//   dense mean value weights of that size do not fit in memory).
+// visual_map: each map on a known smooth deformation (a press dent and a
+//   bend) applied to the cage: rel_error is the RMS distance of the mapped
+//   visual vertices from the deformation's own values over the RMS
+//   displacement; ms is the whole map, ratio to trilinear in the same run.
+// force_vs_behavior: the S-Chain force against the behavior model's static
+//   force at the same depth, 1 to 5 mm at the top centre: the largest
+//   relative difference.
+#include <algorithm>
+#include <chrono>
+
+#include "bench.h"
+#include "deformable/hybrid.h"
+#include "deformable/surface.h"
+
+namespace hcosim::cli {
+namespace {
+
+using namespace hcosim::deformable;
+using Clock = std::chrono::steady_clock;
+
+double us_since(Clock::time_point t) { return std::chrono::duration<double, std::micro>(Clock::now() - t).count(); }
+
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v[std::size_t(q * double(v.size() - 1) + 0.5)];
+}
+
+int top_centre(int n) { return n / 2 + n * (n / 2 + n * (n - 1)); }
+
+Row schain_row(int n, double depth) {
+  HybridSpec s;
+  s.elements = n;
+  SChain chain(hybrid_chains(s), s.relax_rate, s.limit_stiffness);
+  const int e = top_centre(n);
+  const Eigen::Vector3d rest = chain.lattice().rest(e);
+  std::vector<double> t;
+  std::size_t moved = 0;
+  for (int k = 0; k < 500; ++k) {
+    const Eigen::Vector3d hip = rest - Eigen::Vector3d(0, 0, depth * std::min(1.0, (k + 1) / 200.0));
+    const auto t0 = Clock::now();
+    chain.tick(1e-3, e, hip);
+    t.push_back(us_since(t0));
+    moved = std::max(moved, chain.moved().size());
+  }
+  return {"schain_tick",
+          {{"elements", double(n * n * n)}, {"depth_mm", depth * 1e3}},
+          {{"moved", double(moved)}, {"p50_us", quantile(t, 0.5)}, {"p99_us", quantile(t, 0.99)}}};
+}
+
+Row pipeline_row(const std::string& scale) {
+  HybridSpec s;
+  if (scale == "100x") s.elements = 46, s.visual_subdivisions = 300, s.map = VisualMap::trilinear;
+  const auto b0 = Clock::now();
+  Hybrid h(s);
+  const double build_ms = us_since(b0) * 1e-3;
+  const Eigen::Vector3d top = s.centre + Eigen::Vector3d(0.002, 0.001, 0.5 * s.size);
+  std::vector<double> haptic, behavior, visual;
+  for (int k = 0; k < 1500; ++k) {
+    // 8 mm in over 0.5 s, held 0.5 s, out over 0.25 s, then free.
+    const double d = k < 500 ? 0.008 * k / 500 : k < 1000 ? 0.008 : std::max(0.0, 0.008 * (1 - (k - 1000) / 250.0));
+    const auto t0 = Clock::now();
+    h.touch(1e-3, top - Eigen::Vector3d(0, 0, d - 1e-4), false);
+    haptic.push_back(us_since(t0));
+    const auto t1 = Clock::now();
+    h.advance();
+    behavior.push_back(us_since(t1));
+    if (k % 33 == 0) {
+      const auto t2 = Clock::now();
+      const Eigen::Matrix3Xd x = h.surface();
+      const Eigen::Matrix3Xf out = x.cast<float>(), normals = vertex_normals(x, h.triangles()).cast<float>();
+      visual.push_back(us_since(t2) * 1e-3);
+      if (!out.allFinite() || !normals.allFinite()) throw std::runtime_error("bench hybrid: non-finite visual mesh");
+    }
+  }
+  return {"pipeline",
+          {{"scale", scale},
+           {"chains", double(h.haptic().lattice().size())},
+           {"masses", double(h.behavior().lattice().size())},
+           {"springs", double(h.behavior().lattice().springs.size())},
+           {"visual_vertices", double(h.visual_rest().vertices.cols())},
+           {"map", std::string(name(s.map))}},
+          {{"haptic_p50_us", quantile(haptic, 0.5)},
+           {"haptic_p99_us", quantile(haptic, 0.99)},
+           {"behavior_p99_us", quantile(behavior, 0.99)},
+           {"visual_frame_ms", quantile(visual, 0.5)},
+           {"visual_frame_p99_ms", quantile(visual, 0.99)},
+           {"build_ms", build_ms}}};
+}
+
+// A press dent at the top centre and a bend, both smooth (m, world).
+Eigen::Vector3d deform(const HybridSpec& s, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d q = (p - s.centre) / s.size;
+  const double h = q.z() + 0.5;
+  const double dent = -0.08 * s.size * std::exp(-(q.x() * q.x() + q.y() * q.y()) / 0.04) * h * h;
+  return p + Eigen::Vector3d(0.03 * s.size * h * h, 0, dent);
+}
+
+std::vector<Row> visual_rows(bool quick) {
+  std::vector<Row> rows;
+  for (const int sub : quick ? std::vector<int>{10} : std::vector<int>{10, 30}) {
+    double trilinear_ms = 0;
+    for (VisualMap m : {VisualMap::trilinear, VisualMap::mvc, VisualMap::mvc_sparse}) {
+      HybridSpec s;
+      s.map = m;
+      s.visual_subdivisions = sub;
+      const Hybrid h(s);
+      const massspring::Lattice& lat = h.behavior().lattice();
+      const int n = s.elements;
+      std::vector<int> cage;
+      if (m == VisualMap::trilinear)
+        for (int i = 0; i < lat.size(); ++i) cage.push_back(i);
+      else
+        cage = grid_surface(n, n, n).nodes;
+      Eigen::Matrix3Xd x(3, cage.size());
+      for (std::size_t i = 0; i < cage.size(); ++i) x.col(i) = deform(s, lat.rest.col(cage[i]));
+      std::vector<double> ms;
+      Eigen::Matrix3Xd got;
+      for (int r = 0; r < 21; ++r) {
+        const auto t0 = Clock::now();
+        got = apply(h.map(), x);
+        ms.push_back(us_since(t0) * 1e-3);
+      }
+      const Eigen::Matrix3Xd& v = h.visual_rest().vertices;
+      double err = 0, disp = 0;
+      for (int i = 0; i < v.cols(); ++i) {
+        const Eigen::Vector3d f = deform(s, v.col(i));
+        err += (got.col(i) - f).squaredNorm(), disp += (f - v.col(i)).squaredNorm();
+      }
+      const double median = quantile(ms, 0.5);
+      if (m == VisualMap::trilinear) trilinear_ms = median;
+      rows.push_back({"visual_map",
+                      {{"method", std::string(name(m))}, {"vertices", double(v.cols())}},
+                      {{"ms", median},
+                       {"ms_ratio_to_trilinear", median / trilinear_ms},
+                       {"rel_error", std::sqrt(err / disp)},
+                       {"weights", double(h.map().nonZeros())}}});
+    }
+  }
+  return rows;
+}
+
+Row force_row() {
+  HybridSpec s;
+  s.map = VisualMap::trilinear;
+  const int e = top_centre(s.elements);
+  double worst = 0;
+  for (double depth = 0.001; depth <= 0.0051; depth += 0.001) {
+    SChain chain(hybrid_chains(s), s.relax_rate, s.limit_stiffness);
+    const Eigen::Vector3d rest = chain.lattice().rest(e);
+    for (int k = 0; k < 300; ++k) chain.tick(1e-3, e, rest - Eigen::Vector3d(0, 0, depth * std::min(1.0, (k + 1) / 100.0)));
+    const double behavior = behavior_static_force(s, e, Eigen::Vector3d(0, 0, -depth)).z();
+    worst = std::max(worst, std::abs(chain.force().z() / behavior - 1));
+  }
+  return {"force_vs_behavior", {{"depth_mm", std::string("1..5")}}, {{"rel_error", worst}}};
+}
+
+std::vector<Row> hybrid_rows(const Context& c) {
+  std::vector<Row> rows;
+  const std::vector<int> sizes = c.quick ? std::vector<int>{10, 22} : std::vector<int>{10, 22, 46};
+  for (const int n : sizes)
+    for (const double depth : {0.004, 0.012, 0.03}) {
+      progress("hybrid schain_tick: " + std::to_string(n * n * n) + " elements, " + std::to_string(int(depth * 1e3)) + " mm");
+      rows.push_back(schain_row(n, depth));
+    }
+  for (const std::string& scale : c.quick ? std::vector<std::string>{"seed"} : std::vector<std::string>{"seed", "100x"}) {
+    progress("hybrid pipeline at " + scale + " scale (building the map)");
+    rows.push_back(pipeline_row(scale));
+  }
+  progress("hybrid visual maps on a known deformation");
+  for (Row& r : visual_rows(c.quick)) rows.push_back(std::move(r));
+  progress("hybrid S-Chain force against the behavior model's static force");
+  rows.push_back(force_row());
+  return rows;
+}
+
+}  // namespace
+
+Suite hybrid_suite() {
+  return {"hybrid",
+          "hybrid deformable model (seed 001): S-Chain tick, whole pipeline at seed and 100x scale, visual maps' "
+          "error and time, S-Chain force against the behavior model",
+          hybrid_rows};
+}
+
+}  // namespace hcosim::cli
