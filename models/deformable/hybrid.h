@@ -92,6 +92,7 @@ class Hybrid final : public Object {
   const massspring::State& state() const { return state_; }
   const massspring::TriangleMesh& visual_rest() const { return visual_; }
   const Weights& map() const { return weights_; }
+  const std::vector<int>& cage_masses() const { return cage_; }  // masses the map reads, in its column order
   int contact() const { return contact_; }
   int visited() const { return visited_; }  // elements the last tick's propagation reached
   int simulated() const { return simulated_; }  // masses the last behavior step integrated

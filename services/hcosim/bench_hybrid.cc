@@ -116,12 +116,7 @@ std::vector<Row> visual_rows(bool quick) {
       s.visual_subdivisions = sub;
       const Hybrid h(s);
       const massspring::Lattice& lat = h.behavior().lattice();
-      const int n = s.elements;
-      std::vector<int> cage;
-      if (m == VisualMap::trilinear)
-        for (int i = 0; i < lat.size(); ++i) cage.push_back(i);
-      else
-        cage = grid_surface(n, n, n).nodes;
+      const std::vector<int>& cage = h.cage_masses();
       Eigen::Matrix3Xd x(3, cage.size());
       for (std::size_t i = 0; i < cage.size(); ++i) x.col(i) = deform(s, lat.rest.col(cage[i]));
       std::vector<double> ms;

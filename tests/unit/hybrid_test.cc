@@ -68,12 +68,7 @@ TEST(HybridVisualMap, SeedVisualMeshFollowsAffineCageMotionsForEveryMap) {
     Eigen::Matrix3d a;
     a << 1.1, 0.2, 0, -0.1, 0.9, 0.05, 0.02, 0, 1.05;
     const Eigen::Vector3d b(0.01, -0.02, 0.03);
-    const int n = s.elements;
-    std::vector<int> cage;
-    if (m == VisualMap::trilinear)
-      for (int i = 0; i < lat.size(); ++i) cage.push_back(i);
-    else
-      cage = grid_surface(n, n, n).nodes;
+    const std::vector<int>& cage = h.cage_masses();
     Eigen::Matrix3Xd x(3, cage.size());
     for (std::size_t i = 0; i < cage.size(); ++i) x.col(i) = a * lat.rest.col(cage[i]) + b;
     const Eigen::Matrix3Xd expect = (a * h.visual_rest().vertices).colwise() + b;
