@@ -59,10 +59,11 @@ Eigen::Vector3d ElasticSurface::rest_normal(int v) const {
 
 bool ElasticSurface::inside(const Eigen::Vector3d& hip) const {
   const Eigen::Vector3d p = hip - spec_.centre;
-  const double r = spec_.shape == Shape::sheet ? 0.5 * spec_.size : spec_.size;
-  if (spec_.shape == Shape::sheet)
-    return std::abs(p.x()) < r && std::abs(p.y()) < r && p.z() < 0 && p.z() > -r;
-  return p.z() > 0 && p.norm() < r;
+  if (spec_.shape == Shape::sheet) {
+    const double half = 0.5 * spec_.size;  // below the sheet no deeper than that
+    return std::abs(p.x()) < half && std::abs(p.y()) < half && p.z() < 0 && p.z() > -half;
+  }
+  return p.z() > 0 && p.norm() < spec_.size;
 }
 
 Touch ElasticSurface::touch(double dt, const Eigen::Vector3d& hip, bool grab) {

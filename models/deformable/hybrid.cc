@@ -131,7 +131,7 @@ Touch Hybrid::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
   } else if (contact_ >= 0 && !inside && !grab) {
     contact_ = -1;
   }
-  visited_ = chains_.tick(dt, contact_, hip);
+  chains_.tick(dt, contact_, hip);
   Touch t;
   t.force = chains_.force();
   if (contact_ < 0) return t;
@@ -147,8 +147,7 @@ void Hybrid::advance() {
   for (const int i : held_)
     if (chains_.displacement(i).isZero()) masses_->hold(i, false), state_.v.col(i).setZero();
   held_.clear();
-  for (const int e : chains_.moved()) {
-    if (chains_.lattice().anchored[e]) continue;
+  for (const int e : chains_.moved()) {  // anchors never move
     const Eigen::Vector3d x = chains_.lattice().rest(e) + chains_.displacement(e);
     state_.v.col(e) = (x - state_.x.col(e)) / dt;
     state_.x.col(e) = x;

@@ -37,7 +37,7 @@ struct HybridSpec {
   massspring::Options behavior = [] {
     massspring::Options o;
     o.integrator = massspring::Integrator::symplectic_euler;
-    o.threshold = 1e-10;  // J: a mass retires with about a micrometre left
+    o.threshold = 1e-10;  // J: low enough that release returns to rest (hybrid_test)
     return o;
   }();
   // 001 Fig 8: the +x half is `stiff_ratio` times stiffer, in both models
@@ -93,8 +93,6 @@ class Hybrid final : public Object {
   const massspring::TriangleMesh& visual_rest() const { return visual_; }
   const Weights& map() const { return weights_; }
   const std::vector<int>& cage_masses() const { return cage_; }  // masses the map reads, in its column order
-  int contact() const { return contact_; }
-  int visited() const { return visited_; }  // elements the last tick's propagation reached
   int simulated() const { return simulated_; }  // masses the last behavior step integrated
 
  private:
@@ -110,7 +108,7 @@ class Hybrid final : public Object {
   int contact_ = -1;
   Eigen::Vector3d normal_ = Eigen::Vector3d::UnitZ();  // outward normal of the face entered
   std::vector<int> held_;  // masses held last step
-  int visited_ = 0, simulated_ = 0;
+  int simulated_ = 0;
 };
 
 }  // namespace hcosim::deformable

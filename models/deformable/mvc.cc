@@ -13,10 +13,11 @@ namespace {
 
 constexpr double kEps = 1e-10;  // relative: below this a point is on the vertex, edge or face
 // Relative distance to a face below which a point takes the barycentric
-// weights of its projection. Closer, the formula divides by the sine of an
-// angle that is near zero, and the weights lose about eps / distance of
-// their precision: at 5e-12 m off a 0.1 m cage (the visual mesh's face
-// centres) a whole 3 cm; the projection is off by at most this distance.
+// weights of its projection (off by at most that distance). Nearer, the
+// closed formula divides by the sine of a vanishing angle: on the seed's
+// visual mesh, whose face centres lie a rounding error off the cage,
+// HybridVisualMap.SeedVisualMeshFollowsAffineCageMotionsForEveryMap finds
+// points 3.7 cm astray without this.
 constexpr double kNear = 1e-7;
 
 // Mean value coordinates of one point, into w (size n, zeroed).

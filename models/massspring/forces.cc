@@ -35,15 +35,12 @@ Eigen::Vector3d spring_direction(const Lattice& l, const Spring& s, const Eigen:
 void add_forces(const Lattice& l, const std::vector<int>& springs, const std::vector<int>& masses,
                 const std::vector<PointForce>& loads, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v,
                 Eigen::Matrix3Xd& f) {
-  const double* V = v.data();
   double* F = f.data();
   for (const int si : springs) {
     const Spring& s = l.springs[si];
     const int a = 3 * s.i, b = 3 * s.j;
     double u[3];
-    const double len = spring_axis(l, s, x, u);
-    const double rate = u[0] * (V[b] - V[a]) + u[1] * (V[b + 1] - V[a + 1]) + u[2] * (V[b + 2] - V[a + 2]);
-    const double mag = s.k * (len - s.rest) + s.b * rate;
+    const double mag = spring_tension(l, s, x, v, u);
     for (int c = 0; c < 3; ++c) {
       F[a + c] += mag * u[c];
       F[b + c] -= mag * u[c];

@@ -40,6 +40,18 @@ inline double spring_axis(const Lattice& lattice, const Spring& s, const Eigen::
   return len;
 }
 
+// Tension of spring s (N, positive when it pulls its ends together):
+// k (|l| - rest) plus b times the rate of change of |l|; u gets its axis,
+// from mass i to mass j.
+inline double spring_tension(const Lattice& lattice, const Spring& s, const Eigen::Matrix3Xd& x,
+                             const Eigen::Matrix3Xd& v, double u[3]) {
+  const double len = spring_axis(lattice, s, x, u);
+  const double* V = v.data();
+  const int a = 3 * s.i, b = 3 * s.j;
+  const double rate = u[0] * (V[b] - V[a]) + u[1] * (V[b + 1] - V[a + 1]) + u[2] * (V[b + 2] - V[a + 2]);
+  return s.k * (len - s.rest) + s.b * rate;
+}
+
 // Adds to f (3 x n, N) the forces of `springs` (indices into
 // lattice.springs) on both their ends, and for `masses` the drag, gravity
 // and point forces. Forces on anchored masses are computed but unused.

@@ -546,14 +546,14 @@ bool Simulator::held(int i) const { return i >= 0 && i < impl_->lat.size() && im
 
 Eigen::Vector3d Simulator::spring_force(int i, const State& s) const {
   const Impl& m = *impl_;
+  if (i < 0 || i >= m.lat.size() || s.x.cols() != m.lat.size() || s.v.cols() != m.lat.size())
+    throw std::invalid_argument("massspring: spring_force of mass " + std::to_string(i) + " in a state of " +
+                                std::to_string(s.x.cols()) + " masses, lattice has " + std::to_string(m.lat.size()));
   Eigen::Vector3d f = Eigen::Vector3d::Zero();
   for (int e = m.adj.start[i]; e < m.adj.start[i + 1]; ++e) {
-    const Spring& sp = m.lat.springs[m.adj.spring[e]];
     double u[3];
-    const double len = spring_axis(m.lat, sp, s.x, u);
-    const Eigen::Vector3d axis(u[0], u[1], u[2]);
-    const double mag = sp.k * (len - sp.rest) + sp.b * axis.dot(s.v.col(sp.j) - s.v.col(sp.i));
-    f += m.adj.sign[e] * mag * axis;
+    const double mag = spring_tension(m.lat, m.lat.springs[m.adj.spring[e]], s.x, s.v, u);
+    f += m.adj.sign[e] * mag * Eigen::Vector3d(u[0], u[1], u[2]);
   }
   return f;
 }

@@ -66,9 +66,9 @@ std::unique_ptr<deformable::Object> make_object(const Params& o, const std::stri
   return std::make_unique<deformable::ElasticSurface>(s);
 }
 
-// One visual frame at a time on its own thread, so that mapping a dense
-// mesh never delays a servo tick. A frame that finds the worker busy is
-// dropped and counted.
+// One visual frame (every object's mesh) at a time on its own thread, so
+// that mapping a dense mesh never delays a servo tick. A frame that finds
+// the worker busy is dropped and counted.
 class VisualWorker {
  public:
   VisualWorker(Writer<DeformedMesh>& out, std::vector<Item>& items) : out_(out), items_(items), thread_([this] { loop(); }) {}
@@ -82,11 +82,11 @@ class VisualWorker {
     cv_.notify_one();
     if (thread_.joinable()) thread_.join();
   }
-  // False if the previous frame is still being published.
-  bool post(std::size_t item, Eigen::Matrix3Xd cage, const StepStamp& stamp) {
+  // Each item's cage, in order; false if the previous frame is still being published.
+  bool post(std::vector<Eigen::Matrix3Xd> cages, const StepStamp& stamp) {
     std::lock_guard<std::mutex> l(m_);
     if (busy_) return false;
-    busy_ = true, item_ = item, cage_ = std::move(cage), stamp_ = stamp;
+    busy_ = true, cages_ = std::move(cages), stamp_ = stamp;
     cv_.notify_one();
     return true;
   }
@@ -100,10 +100,12 @@ class VisualWorker {
       if (busy_) {
         l.unlock();
         const std::int64_t t0 = mono_ns();
-        Item& it = items_[item_];
-        deformable::fill_mesh(sample_, it.name, stamp_, it.model->surface_from(cage_), it.model->triangles());
-        out_.write(sample_);
-        ++it.frames;
+        for (std::size_t k = 0; k < items_.size(); ++k) {
+          Item& it = items_[k];
+          deformable::fill_mesh(sample_, it.name, stamp_, it.model->surface_from(cages_[k]), it.model->triangles());
+          out_.write(sample_);
+          ++it.frames;
+        }
         l.lock();
         frame_ms_.add((mono_ns() - t0) * 1e-6);
         busy_ = false;
@@ -117,8 +119,7 @@ class VisualWorker {
   std::mutex m_;
   std::condition_variable cv_;
   bool busy_ = false, stop_ = false;
-  std::size_t item_ = 0;
-  Eigen::Matrix3Xd cage_;
+  std::vector<Eigen::Matrix3Xd> cages_;
   StepStamp stamp_;
   DeformedMesh sample_;
   Window frame_ms_{1 << 12};
@@ -184,12 +185,12 @@ int run(int argc, char** argv) {
     if (stepped) behavior_us.add((mono_ns() - t1) * 1e-3);
     if (now + 1e-12 >= next_frame) {
       next_frame += visual_period;
-      for (std::size_t k = 0; k < items.size(); ++k) {
-        if (meshes.matched() == 0) {
-          svc.skip_output();
-          continue;
-        }
-        if (!visual.post(k, items[k].model->cage(), svc.stamp(tick))) ++frames_dropped;
+      if (meshes.matched() == 0) {
+        for (std::size_t k = 0; k < items.size(); ++k) svc.skip_output();
+      } else {
+        std::vector<Eigen::Matrix3Xd> cages;
+        for (const Item& it : items) cages.push_back(it.model->cage());
+        if (!visual.post(std::move(cages), svc.stamp(tick))) ++frames_dropped;
       }
     }
   });
@@ -198,7 +199,7 @@ int run(int argc, char** argv) {
     std::printf("%s: %llu ticks in contact, max force %.3f N, %llu meshes published\n", it.name.c_str(),
                 static_cast<unsigned long long>(it.contacts), it.max_force, static_cast<unsigned long long>(it.frames));
   std::printf("%s: haptic answer p50 %.1f us p99 %.1f us over %zu ticks; behavior p50 %.1f us p99 %.1f us; "
-              "visual frame p50 %.2f ms p99 %.2f ms, %llu dropped (worker busy)\n",
+              "visual frame (all objects) p50 %.2f ms p99 %.2f ms, %llu dropped (worker busy)\n",
               svc.options().name.c_str(), tick_us.percentile(0.5), tick_us.percentile(0.99), tick_us.size(),
               behavior_us.percentile(0.5), behavior_us.percentile(0.99),
               visual.frame_ms().percentile(0.5), visual.frame_ms().percentile(0.99),

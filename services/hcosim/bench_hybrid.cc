@@ -4,7 +4,8 @@
 //   cube of `elements` chains `depth` deep (a 200-tick ramp, then 300 ticks
 //   held); `moved` is the largest number of moved chains.
 // pipeline: the whole model as the service runs it: haptic tick, behavior
-//   step (1 kHz), and a visual frame every 33 ticks (map, normals, floats),
+//   step (1 kHz), and a visual frame every 33 ticks (fill_mesh: map,
+//   normals and the DeformedMesh's floats),
 //   over a press, hold and release. `seed` is 001 Fig 7's scale, `100x` a
 //   hundred times more chains, masses and visual vertices (trilinear map:
 //   dense mean value weights of that size do not fit in memory).
@@ -20,7 +21,7 @@
 
 #include "bench.h"
 #include "deformable/hybrid.h"
-#include "deformable/surface.h"
+#include "deformable/mesh_idl.h"
 
 namespace hcosim::cli {
 namespace {
@@ -66,6 +67,7 @@ Row pipeline_row(const std::string& scale) {
   const double build_ms = us_since(b0) * 1e-3;
   const Eigen::Vector3d top = s.centre + Eigen::Vector3d(0.002, 0.001, 0.5 * s.size);
   std::vector<double> haptic, behavior, visual;
+  DeformedMesh mesh;
   for (int k = 0; k < 1500; ++k) {
     // 8 mm in over 0.5 s, held 0.5 s, out over 0.25 s, then free.
     const double d = k < 500 ? 0.008 * k / 500 : k < 1000 ? 0.008 : std::max(0.0, 0.008 * (1 - (k - 1000) / 250.0));
@@ -76,11 +78,12 @@ Row pipeline_row(const std::string& scale) {
     h.advance();
     behavior.push_back(us_since(t1));
     if (k % 33 == 0) {
+      // What the service's visual worker does, short of writing the sample.
       const auto t2 = Clock::now();
-      const Eigen::Matrix3Xd x = h.surface();
-      const Eigen::Matrix3Xf out = x.cast<float>(), normals = vertex_normals(x, h.triangles()).cast<float>();
+      fill_mesh(mesh, "cube", StepStamp(), h.surface(), h.triangles());
       visual.push_back(us_since(t2) * 1e-3);
-      if (!out.allFinite() || !normals.allFinite()) throw std::runtime_error("bench hybrid: non-finite visual mesh");
+      if (!std::all_of(mesh.positions().begin(), mesh.positions().end(), [](float f) { return std::isfinite(f); }))
+        throw std::runtime_error("bench hybrid: non-finite visual mesh");
     }
   }
   return {"pipeline",

@@ -9,11 +9,11 @@ start: [0, 0, 0.12]
 actions:
   - move_to: {to: [0, 0, 0.102], speed: 0.05}
   - press: {depth: 0.008, speed: 0.01}
-  - hold: {duration: 3}
+  - hold: {duration: 6}
 YAML
 deployment up.yaml <<'YAML'
 mode: realtime
-duration: 5
+duration: 8
 services:
   - name: omni
     kind: haptic
@@ -33,9 +33,9 @@ services:
     rate: 200
     params: {role: source, nan_every: 2}
 YAML
-start mesh "$BIN/hcosim" echo DeformedMesh --count 20 --timeout 8
-start status "$BIN/hcosim" echo ServiceStatus --count 0 --timeout 8
-(sleep 4 && exec "$BIN/hcosim" echo DeformedMeshTopology --count 2 --timeout 5 >"$WORK/late.log" 2>&1) &
+start mesh "$BIN/hcosim" echo DeformedMesh --count 20 --timeout 12
+start status "$BIN/hcosim" echo ServiceStatus --count 0 --timeout 12
+(sleep 4 && exec "$BIN/hcosim" echo DeformedMeshTopology --count 2 --timeout 7 >"$WORK/late.log" 2>&1) &
 PIDS+=($!)
 timeout 40 "$BIN/hcosim" up "$WORK/up.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1 || fail "up exited $?"
 wait "${PIDS[0]}" || fail "fewer than 20 meshes reached the subscriber"
@@ -43,11 +43,12 @@ wait "${PIDS[2]}" || fail "the late subscriber did not receive both topologies"
 log="$WORK/out/logs/objs.log"
 cube=$(grep "cube:.*ticks in contact" "$log") || fail "no summary for the cube"
 contact=$(echo "$cube" | sed -nE 's/cube: ([0-9]+) ticks in contact.*/\1/p')
-[ "${contact:-0}" -gt 2000 ] || fail "the cube was touched for only ${contact:-0} ticks: $cube"
+[ "${contact:-0}" -gt 1000 ] || fail "the cube was touched for only ${contact:-0} ticks: $cube"
 echo "$cube" | awk '{ for (i = 1; i <= NF; i++) if ($i == "force") f = $(i + 1) } END { exit !(f > 0.2 && f < 3) }' ||
   fail "max force on the cube outside 0.2..3 N: $cube"
 grep -q "sheet: 0 ticks in contact" "$log" || fail "the untouched sheet reports contact: $(grep sheet: "$log")"
 grep -q '"mesh":"cube"' "$WORK/mesh.log" || fail "no cube mesh on the wire"
+grep -q '"mesh":"sheet"' "$WORK/mesh.log" || fail "no sheet mesh on the wire: every object is published each frame"
 n=$(grep -m1 '"mesh":"cube"' "$WORK/mesh.log" | grep -oE '"positions":\[[^]]*\]' | tr ',' '\n' | wc -l)
 [ "$n" -eq 16206 ] || fail "a cube mesh carries $n coordinates, not 3 x 5402"
 grep -q '"vertex_count":5402' "$WORK/late.log" || fail "late subscriber: no cube topology"
@@ -55,5 +56,5 @@ grep -q '"vertex_count":441' "$WORK/late.log" || fail "late subscriber: no sheet
 grep -E '"service":"objs"' "$WORK/status.log" | grep -qE '"samples_rejected":[1-9]' ||
   fail "NaN haptic states were not counted as rejected by objs"
 answered=$(sed -nE 's/.* ([0-9]+) answered.*/\1/p' "$WORK/out/logs/omni.log")
-[ "${answered:-0}" -gt 3000 ] || fail "only ${answered:-0} haptic states answered"
+[ "${answered:-0}" -gt 1000 ] || fail "only ${answered:-0} haptic states answered"
 echo "deformable_test: ok"
