@@ -112,7 +112,7 @@ Hybrid::Hybrid(const HybridSpec& spec)
     weights_ = mean_value_weights(cage, g.triangles, visual_.vertices);
     if (spec.map == VisualMap::mvc_sparse) weights_ = truncate(weights_, spec.keep);
   }
-  columns_ = weights_;
+  columns_ = weights_.cast<float>();
 }
 
 Touch Hybrid::touch(double dt, const Eigen::Vector3d& hip, bool grab) {

@@ -174,7 +174,8 @@ Eigen::Matrix3Xd apply_moved(const ColumnWeights& w, const Eigen::Matrix3Xd& res
     if (std::abs(ux) <= tolerance && std::abs(uy) <= tolerance && std::abs(uz) <= tolerance) continue;
     for (ColumnWeights::InnerIterator it(w, j); it; ++it) {
       double* p = o + 3 * it.row();
-      p[0] += it.value() * ux, p[1] += it.value() * uy, p[2] += it.value() * uz;
+      const double wt = it.value();
+      p[0] += wt * ux, p[1] += wt * uy, p[2] += wt * uz;
     }
   }
   return out;

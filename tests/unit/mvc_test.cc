@@ -86,6 +86,26 @@ TEST(MeanValueCoordinates, CarryAffineCageMotionsExactly) {
   EXPECT_LT((apply(w, moved) - expect).cwiseAbs().maxCoeff(), 1e-9);
 }
 
+// The column-wise map of displacements agrees with the full map of moved
+// positions: exactly up to float weights when every column is read, and
+// within the tolerance when columns that moved less are skipped.
+TEST(MeanValueCoordinates, MovedColumnsAgreeWithTheFullMap) {
+  const Cage c = cube();
+  const Eigen::Matrix3Xd p = probe_points();
+  const Weights w = mean_value_weights(c.x, c.t, p);
+  const ColumnWeights cols = w.cast<float>();
+  const Eigen::Matrix3Xd rest = apply(w, c.x);
+  Eigen::Matrix3Xd u = Eigen::Matrix3Xd::Zero(3, 8);
+  u.col(7) << 0.01, -0.02, 0.03;  // one corner pulled 3 cm
+  u.col(3) << 0, 0, 1e-6;         // one a micrometre
+  const Eigen::Matrix3Xd full = apply(w, c.x + u);
+  EXPECT_LT((apply_moved(cols, rest, u) - full).cwiseAbs().maxCoeff(), 1e-8);
+  const Eigen::Matrix3Xd skipped = apply_moved(cols, rest, u, 1e-5);
+  EXPECT_GT((skipped - full).cwiseAbs().maxCoeff(), 0);  // the micrometre column was skipped
+  EXPECT_LT((skipped - full).cwiseAbs().maxCoeff(), 1e-5 * 1.0 + 1e-8);
+  EXPECT_THROW(apply_moved(cols, rest, u.leftCols(7)), std::invalid_argument);
+}
+
 // Truncation trades accuracy for fewer weights: keeping everything is the
 // full map, and the error shrinks as more of each row is kept.
 TEST(MeanValueCoordinates, TruncatedTradesAccuracyForSparsity) {
