@@ -220,6 +220,7 @@ const std::vector<Suite>& suites() {
       massspring_suite(),
       haptic_suite(),
       hybrid_suite(),
+      rigid_suite(),
   };
   return all;
 }

@@ -49,6 +49,9 @@ Suite haptic_suite();
 // The hybrid deformable model's parts and pipeline: bench_hybrid.cc.
 Suite hybrid_suite();
 
+// The rigid model against eq 2 and MuJoCo, and its step cost: bench_rigid.cc.
+Suite rigid_suite();
+
 // 1 kHz HapticState -> ForceFeedback round trips, us (bench.cc).
 struct Rtt {
   rt::Window us{1 << 20};

@@ -1,0 +1,37 @@
+// God-object haptic rendering (Zilles and Salisbury 1995) for one convex
+// body: a proxy point that stays on the surface (grown by the tip radius)
+// while the device's haptic interface point (HIP) goes inside, moving each
+// tick to the point of its constraint plane nearest the HIP. The device is
+// pulled toward the proxy by a spring. Unlike the nearest surface point,
+// the proxy never jumps to the far side of the body when the HIP is pushed
+// past its middle.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "rigid/body.h"
+
+namespace hcosim::rigid {
+
+class Proxy {
+ public:
+  // The proxy for HIP h (world, m) against body b grown by tip_radius;
+  // the HIP itself when it is outside. The proxy is kept in the body's
+  // frame, so it rides along when the body moves. Throws
+  // std::invalid_argument for a non-finite h.
+  Eigen::Vector3d update(const Body& b, double tip_radius, const Eigen::Vector3d& h);
+
+  bool in_contact() const { return contact_; }
+  void release() { contact_ = false; }
+
+ private:
+  bool contact_ = false;
+  Eigen::Vector3d local_ = Eigen::Vector3d::Zero();  // proxy, body frame
+  Eigen::Vector3d last_ = Eigen::Vector3d::Zero();   // last free HIP, world
+};
+
+// The spring force on the device, k (proxy - h), its norm clamped to
+// max_force (N, the device's limit).
+Eigen::Vector3d proxy_force(const Eigen::Vector3d& proxy, const Eigen::Vector3d& h, double stiffness, double max_force);
+
+}  // namespace hcosim::rigid

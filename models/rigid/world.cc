@@ -1,0 +1,277 @@
+#include "rigid/world.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace hcosim::rigid {
+
+namespace {
+
+Eigen::Matrix3d cross_matrix(const Eigen::Vector3d& r) {
+  Eigen::Matrix3d m;
+  m << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
+  return m;
+}
+
+void check(const Material& m, const char* what) {
+  if (!(m.restitution >= 0 && m.restitution <= 1))
+    throw std::invalid_argument(std::string("rigid: ") + what + " restitution must be in [0, 1]");
+  if (!(m.friction >= 0 && std::isfinite(m.friction)))
+    throw std::invalid_argument(std::string("rigid: ") + what + " friction must be >= 0");
+}
+
+// Rotation by w over dt, as a quaternion.
+Eigen::Quaterniond rotation(const Eigen::Vector3d& w, double dt) {
+  const double angle = w.norm() * dt;
+  if (angle == 0) return Eigen::Quaterniond::Identity();
+  return Eigen::Quaterniond(Eigen::AngleAxisd(angle, w.normalized()));
+}
+
+// Points of the body that can touch the plane z = 0: a sphere's lowest
+// point, a cube's corners.
+std::vector<Eigen::Vector3d> support_points(const Body& b) {
+  if (b.shape == Shape::sphere) return {b.x - b.size * Eigen::Vector3d::UnitZ()};
+  std::vector<Eigen::Vector3d> out;
+  const Eigen::Matrix3d R = b.q.toRotationMatrix();
+  for (int c = 0; c < 8; ++c)
+    out.push_back(b.x + R * (b.size * Eigen::Vector3d(c & 1 ? 1 : -1, c & 2 ? 1 : -1, c & 4 ? 1 : -1)));
+  return out;
+}
+
+}  // namespace
+
+Eigen::Vector3d contact_impulse(const Body& b, double tip_mass, const Eigen::Vector3d& tip_v, const Eigen::Vector3d& p,
+                                const Eigen::Vector3d& n, const Material& m) {
+  Eigen::Vector3d v = tip_v - point_velocity(b, p);
+  const double vn0 = v.dot(n);
+  // A grazing touch's normal is perpendicular to the motion only to
+  // within rounding (amplified near tangency): approaches slower than a
+  // millionth of the relative speed exchange nothing.
+  if (vn0 >= -1e-6 * v.norm()) return Eigen::Vector3d::Zero();
+  // Relative velocity change per unit impulse on the tip (the body taking
+  // the opposite at p): K = (1/m_t + 1/m_b) I - [r]x^2 / I_b.
+  const Eigen::Matrix3d rx = cross_matrix(p - b.x);
+  const Eigen::Matrix3d K = (1 / tip_mass + 1 / b.mass) * Eigen::Matrix3d::Identity() - rx * rx / inertia(b);
+  const double e = m.restitution, mu = m.friction, knn = n.dot(K * n);
+  if (mu == 0) return -(1 + e) * vn0 / knn * n;  // Newton's law, exact
+  // With friction the slip can stop or turn during the impact, so the
+  // impulse is integrated over the normal impulse (Routh; Stronge's
+  // energetic restitution for a compression then a restitution phase):
+  // each increment's friction opposes the current slip, or holds it at
+  // zero when the cone allows.
+  constexpr int kSteps = 400;
+  const double dp = -vn0 / knn / kSteps;
+  Eigen::Vector3d P = Eigen::Vector3d::Zero();
+  Eigen::Vector3d t1 = n.unitOrthogonal(), t2 = n.cross(t1);
+  Eigen::Matrix2d Ktt;
+  Ktt << t1.dot(K * t1), t1.dot(K * t2), t2.dot(K * t1), t2.dot(K * t2);
+  const Eigen::Vector2d Ktn(t1.dot(K * n), t2.dot(K * n));
+  const double slip_floor = 1e-9 * std::abs(vn0);
+  double compression = -1;  // the normal impulse when the approach ended
+  for (int k = 0; k < 100 * kSteps; ++k) {
+    if (compression < 0 && v.dot(n) >= 0) compression = P.dot(n);
+    if (compression >= 0 && P.dot(n) >= (1 + e) * compression) break;
+    const Eigen::Vector3d vt = v - v.dot(n) * n;
+    Eigen::Vector3d dP;
+    if (vt.norm() > slip_floor) {
+      dP = dp * (n - mu * vt.normalized());
+    } else {
+      const Eigen::Vector2d x = -Ktt.ldlt().solve(dp * Ktn);  // tangential impulse keeping the slip at zero
+      dP = x.norm() <= mu * dp ? Eigen::Vector3d(dp * n + x[0] * t1 + x[1] * t2)
+                               : Eigen::Vector3d(dp * n + (mu * dp / x.norm()) * (x[0] * t1 + x[1] * t2));
+    }
+    v += K * dP;
+    P += dP;
+  }
+  return P;
+}
+
+double time_of_impact(const Body& b, const Tip& tip, double tip_radius, double dt) {
+  const Eigen::Vector3d q0 = tip.x - b.x, u = tip.v - b.v;
+  if (b.shape == Shape::sphere) {
+    // |q0 + u t| = R: the smaller root of a quadratic.
+    const double R = b.size + tip_radius, c = q0.squaredNorm() - R * R;
+    if (c <= 0) return 0;
+    const double a = u.squaredNorm(), half_b = q0.dot(u);
+    if (a == 0 || half_b >= 0) return -1;
+    const double disc = half_b * half_b - a * c;
+    if (disc < 0) return -1;
+    const double t = c / (-half_b + std::sqrt(disc));  // = (-half_b - sqrt(disc)) / a, without cancellation
+    return t <= dt ? t : -1;
+  }
+  // Conservative advancement: the signed distance changes no faster than
+  // the relative speed, so stepping by distance / speed never skips a touch.
+  const double speed = u.norm();
+  Body moved = b;
+  double t = 0;
+  for (int k = 0; k < 200 && t <= dt; ++k) {
+    moved.x = b.x + b.v * t;
+    const double d = nearest(moved, tip.x + tip.v * t).distance - tip_radius;  // to the rounded box
+    if (d <= 1e-9 * b.size) return t;
+    if (speed == 0) return -1;
+    t += d / speed;
+  }
+  return -1;
+}
+
+void check(const WorldSpec& spec) {
+  if (!spec.gravity.allFinite()) throw std::invalid_argument("rigid: gravity is not finite");
+  check(spec.tip, "tip");
+  check(spec.floor, "floor");
+  const Drag& d = spec.drag;
+  if (!(d.linear >= 0 && d.quadratic >= 0 && d.angular_linear >= 0 && d.angular_quadratic >= 0))
+    throw std::invalid_argument("rigid: drag coefficients must be >= 0");
+  if (!(spec.tip_radius >= 0)) throw std::invalid_argument("rigid: tip_radius must be >= 0");
+  if (!(spec.tip_mass > 0)) throw std::invalid_argument("rigid: tip_mass must be > 0");
+  if (!(spec.sleep_speed >= 0 && spec.sleep_time > 0)) throw std::invalid_argument("rigid: bad sleep thresholds");
+}
+
+void check(const std::vector<Body>& bodies) {
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    try {
+      check(bodies[i]);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("body " + std::to_string(i) + ": " + e.what());
+    }
+  }
+}
+
+World::World(const WorldSpec& spec, std::vector<Body> bodies) : spec_(spec), bodies_(std::move(bodies)) {
+  check(spec_);
+  check(bodies_);
+}
+
+void World::set_tip(const Tip& t) {
+  if (!t.x.allFinite() || !t.v.allFinite()) throw std::invalid_argument("rigid: tip state is not finite");
+  tip_ = t;
+}
+
+void World::wake(int body) {
+  Body& b = bodies_.at(std::size_t(body));
+  b.sleeping = false, b.still_s = 0;
+}
+
+void World::hit(Body& b, double dt, StepReport& r) {
+  const double t = time_of_impact(b, tip_, spec_.tip_radius, dt);
+  if (t < 0) return;
+  Body at = b;
+  at.x = b.x + b.v * t;
+  const Eigen::Vector3d tip_x = tip_.x + tip_.v * t;
+  const Nearest c = nearest(at, tip_x);
+  // The contact point on the tip's side of the touch (the body's surface
+  // point lies within the touch tolerance of it): tip and body then take
+  // their impulses on one line, and angular momentum is kept to rounding.
+  const Eigen::Vector3d p = tip_x - spec_.tip_radius * c.normal;
+  const Eigen::Vector3d P = contact_impulse(at, spec_.tip_mass, tip_.v, p, c.normal, spec_.tip);
+  if (P.isZero()) return;
+  const Eigen::Vector3d tip_v = tip_.v, body_v = b.v;
+  tip_.v += P / spec_.tip_mass;
+  b.v -= P / b.mass;
+  b.w -= (p - at.x).cross(P) / inertia(b);
+  // Positions such that moving the whole step at the new velocities passes
+  // through the contact at t: the motion is exact piecewise, and momentum
+  // about any point is conserved at every instant.
+  tip_.x += (tip_v - tip_.v) * t;
+  b.x += (body_v - b.v) * t;
+  b.sleeping = false, b.still_s = 0;
+  ++r.hits;
+}
+
+// Sequential impulses over the body's points touching the plane: the
+// normal impulse never pulls, friction stays in its cone, and impacts
+// faster than bounce_speed bounce with the floor's restitution.
+void World::floor(Body& b) const {
+  struct Touch {
+    Eigen::Vector3d r;
+    double target = 0, normal = 0;
+    Eigen::Vector2d tangent = Eigen::Vector2d::Zero();
+  };
+  std::vector<Touch> touches;
+  const double slop = 1e-3 * b.size;
+  for (const Eigen::Vector3d& p : support_points(b)) {
+    if (p.z() > slop) continue;
+    Touch t;
+    t.r = p - b.x;
+    const double vn = point_velocity(b, p).z();
+    t.target = vn < -spec_.bounce_speed ? -spec_.floor.restitution * vn : 0;
+    touches.push_back(t);
+  }
+  const double I = inertia(b), mu = spec_.floor.friction;
+  auto apply = [&](const Eigen::Vector3d& r, const Eigen::Vector3d& P) {
+    b.v += P / b.mass;
+    b.w += r.cross(P) / I;
+  };
+  auto k = [&](const Eigen::Vector3d& r, const Eigen::Vector3d& d) { return 1 / b.mass + r.cross(d).squaredNorm() / I; };
+  // Jacobi sweeps: every touch's impulse from the same velocities, each
+  // applied at 1/n, so that symmetric touches (a cube flat on the plane)
+  // get equal impulses. Gauss-Seidel sweeps in any order tilt a resting
+  // cube a little each step toward the corner visited first.
+  const Eigen::Vector3d ez = Eigen::Vector3d::UnitZ();
+  const double relax = touches.empty() ? 0 : 1.0 / double(touches.size());
+  for (int iter = 0; iter < 30; ++iter) {
+    const Eigen::Vector3d v0 = b.v, w0 = b.w;
+    std::vector<Eigen::Vector3d> impulses;
+    for (Touch& t : touches) {
+      const Eigen::Vector3d v = v0 + w0.cross(t.r);
+      const double total = std::max(0.0, t.normal + relax * (t.target - v.z()) / k(t.r, ez));
+      Eigen::Vector2d tangent = t.tangent;
+      tangent.x() -= relax * v.x() / k(t.r, Eigen::Vector3d::UnitX());
+      tangent.y() -= relax * v.y() / k(t.r, Eigen::Vector3d::UnitY());
+      if (tangent.norm() > mu * total) tangent *= mu * total / tangent.norm();
+      impulses.push_back(Eigen::Vector3d(tangent.x() - t.tangent.x(), tangent.y() - t.tangent.y(), total - t.normal));
+      t.normal = total, t.tangent = tangent;
+    }
+    for (std::size_t i = 0; i < touches.size(); ++i) apply(touches[i].r, impulses[i]);
+  }
+}
+
+StepReport World::step(double dt) {
+  if (!(dt > 0 && std::isfinite(dt))) throw std::invalid_argument("rigid: dt must be > 0");
+  StepReport r;
+  for (Body& b : bodies_) hit(b, dt, r);
+  const Drag& d = spec_.drag;
+  for (Body& b : bodies_) {
+    if (b.sleeping) continue;
+    ++r.simulated;
+    b.v += spec_.gravity * dt;
+    // Drag, implicit in its coefficient: it slows, never reverses.
+    b.v /= 1 + dt * (d.linear + d.quadratic * b.v.norm()) / b.mass;
+    b.w /= 1 + dt * (d.angular_linear + d.angular_quadratic * b.w.norm()) / inertia(b);
+    if (spec_.ground) floor(b);
+    b.x += b.v * dt;
+    b.q = (rotation(b.w, dt) * b.q).normalized();
+    if (spec_.ground) {
+      double low = 0;
+      for (const Eigen::Vector3d& p : support_points(b)) low = std::min(low, p.z());
+      b.x.z() -= low;  // out of the plane
+    }
+    const bool slow = b.v.norm() < spec_.sleep_speed && b.w.norm() * b.size < spec_.sleep_speed;
+    b.still_s = slow ? b.still_s + dt : 0;
+    if (b.still_s >= spec_.sleep_time) b.sleeping = true, b.v.setZero(), b.w.setZero();
+  }
+  tip_.x += tip_.v * dt;
+  return r;
+}
+
+Eigen::Vector3d World::momentum() const {
+  Eigen::Vector3d p = spec_.tip_mass * tip_.v;
+  for (const Body& b : bodies_) p += rigid::momentum(b);
+  return p;
+}
+
+Eigen::Vector3d World::angular_momentum() const {
+  Eigen::Vector3d l = spec_.tip_mass * tip_.x.cross(tip_.v);
+  for (const Body& b : bodies_) l += rigid::angular_momentum(b);
+  return l;
+}
+
+double World::kinetic_energy() const {
+  double e = 0.5 * spec_.tip_mass * tip_.v.squaredNorm();
+  for (const Body& b : bodies_) e += rigid::kinetic_energy(b);
+  return e;
+}
+
+}  // namespace hcosim::rigid

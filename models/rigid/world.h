@@ -1,0 +1,117 @@
+// The rigid scene of seed 000 §2.1: cubes and spheres hit by the haptic
+// stylus tip, with restitution and Coulomb friction, air friction, contact
+// with the marker plane, and sleep. Impulse-based: a contact changes
+// velocities at once, conserving linear and angular momentum exactly.
+//
+// The tip is a particle of its own mass with a radius for contact (the seed
+// models stylus and object as particles). It moves freely unless the caller
+// sets it: a service sets it from the device every tick, the hand then
+// supplying whatever momentum the tip loses in a hit. The tip sweeps its
+// path each step against every body (continuous collision detection), so a
+// 10 m/s stroke does not pass through a small object. Bodies do not collide
+// with one another.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "rigid/body.h"
+
+namespace hcosim::rigid {
+
+// Restitution e in [0, 1] (1: elastic) and Coulomb friction mu >= 0.
+struct Material {
+  double restitution = 0.5;
+  double friction = 0.3;
+};
+
+// Air friction, force -(linear + quadratic |v|) v and torque
+// -(angular_linear + angular_quadratic |w|) w: the seed's "air friction"
+// that makes motion stop. The defaults stop a 0.1 kg object within seconds,
+// far sooner than real air would (its linear term is about 1e-5 N s/m).
+struct Drag {
+  double linear = 0.05;              // N s/m
+  double quadratic = 0.001;          // N s^2/m^2
+  double angular_linear = 1e-5;      // N m s
+  double angular_quadratic = 1e-7;   // N m s^2
+};
+
+struct WorldSpec {
+  Eigen::Vector3d gravity{0, 0, -9.81};  // m/s^2, world
+  bool ground = true;                    // the marker plane z = 0, bodies above it
+  Material tip;                          // tip against a body
+  Material floor{0.2, 0.5};              // a body against the marker plane
+  Drag drag;
+  double tip_radius = 0.002;             // m, >= 0
+  double tip_mass = 0.1;                 // kg, > 0
+  double bounce_speed = 0.05;            // m/s: slower floor impacts do not bounce (resting contact)
+  double sleep_speed = 2e-3;             // m/s: slower bodies (w times size counted as speed) may sleep
+  double sleep_time = 0.3;               // s slower than sleep_speed before sleeping
+};
+
+// The stylus tip: a particle, world frame.
+struct Tip {
+  Eigen::Vector3d x = Eigen::Vector3d::Zero();  // m
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();  // m/s
+};
+
+// What a step did.
+struct StepReport {
+  int hits = 0;            // tip-body impulses
+  int simulated = 0;       // bodies not asleep
+};
+
+// Throw std::invalid_argument naming the bad field (or body index).
+void check(const WorldSpec& spec);
+void check(const std::vector<Body>& bodies);
+
+class World {
+ public:
+  // Throws std::invalid_argument for a bad spec or body (naming which).
+  World(const WorldSpec& spec, std::vector<Body> bodies);
+
+  // One step of dt (s, > 0): the tip's swept hits, then gravity, drag, the
+  // marker plane and integration for every body awake, then the tip moves.
+  StepReport step(double dt);
+
+  // The tip, to drive it from a device (x, v finite; throws otherwise).
+  void set_tip(const Tip& t);
+  const Tip& tip() const { return tip_; }
+
+  const std::vector<Body>& bodies() const { return bodies_; }
+  const WorldSpec& spec() const { return spec_; }
+  void wake(int body);
+
+  // Totals over bodies and tip: momentum (kg m/s), angular momentum about
+  // the world origin (kg m^2/s), kinetic energy (J).
+  Eigen::Vector3d momentum() const;
+  Eigen::Vector3d angular_momentum() const;
+  double kinetic_energy() const;
+
+ private:
+  void hit(Body& b, double dt, StepReport& r);
+  void floor(Body& b) const;
+
+  WorldSpec spec_;
+  std::vector<Body> bodies_;
+  Tip tip_;
+};
+
+// The impulse (N s) on a particle of mass `tip_mass` moving at tip_v that
+// touches body b at world point p with unit normal n (out of the body):
+// zero unless approaching. Without friction, Newton's restitution in
+// closed form. With Coulomb friction, the impulse integrated over the
+// normal impulse in 400 increments (slip may stop or turn during the
+// impact), restitution as the ratio of restitution to compression impulse
+// (Poisson). The body takes the opposite impulse at p.
+Eigen::Vector3d contact_impulse(const Body& b, double tip_mass, const Eigen::Vector3d& tip_v, const Eigen::Vector3d& p,
+                                const Eigen::Vector3d& n, const Material& m);
+
+// Earliest time in [0, dt] (s) at which the tip, moving at tip.v, touches
+// body b moving at b.v (its rotation within the step neglected), or a
+// negative number if it does not. Exact for a sphere; conservative
+// advancement for a cube.
+double time_of_impact(const Body& b, const Tip& tip, double tip_radius, double dt);
+
+}  // namespace hcosim::rigid

@@ -1,0 +1,147 @@
+// bench rigid: the rigid model of seed 000 §2.1 against its closed forms
+// and against MuJoCo.
+//
+// eq2: the seed's linear-momentum case (000 eq 2), equal masses and radii,
+//   e = 1, no friction, over 201 impact parameters b in [0, 2r]: the
+//   largest difference of either outgoing velocity from eq 2's, m/s, for
+//   an incoming 1 m/s.
+// crosscheck: each scenario of models/rigid/crosscheck.h in both models at
+//   dt 0.1 ms: end velocities' difference over the tip's speed, angular
+//   velocities' over tip speed / body size, the scenario's tolerance, and
+//   each model's momentum, angular momentum and energy change.
+// step: one step of a scene of `bodies` bodies resting on the marker plane
+//   with the tip sweeping across them, per backend; MuJoCo is the baseline
+//   (ratio in the same run). Analytic bodies that sleep cost nothing, so
+//   the analytic rows are also run with sleep disabled.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "bench.h"
+#include "rigid/crosscheck.h"
+
+namespace hcosim::cli {
+namespace {
+
+using namespace hcosim::rigid;
+using Clock = std::chrono::steady_clock;
+
+Row eq2_row() {
+  const double r = 0.02, v1 = 1;
+  WorldSpec spec;
+  spec.gravity.setZero(), spec.ground = false, spec.drag = Drag{0, 0, 0, 0};
+  spec.tip = Material{1, 0}, spec.tip_radius = r, spec.tip_mass = 0.1;
+  double worst = 0;
+  for (int k = 0; k <= 200; ++k) {
+    const double b = 2 * r * k / 200, s = b / (2 * r), c = std::sqrt(1 - s * s);
+    Body ball;
+    ball.size = r, ball.mass = 0.1;
+    World w(spec, {ball});
+    w.set_tip({Eigen::Vector3d(-0.1, b, 0), Eigen::Vector3d(v1, 0, 0)});
+    for (int n = 0; n < 200; ++n) w.step(1e-3);
+    // eq 2: the ball leaves at sqrt(1 - (b/2r)^2) v1, theta2 = asin(b/2r)
+    // off the line (away from the tip), the tip at (b/2r) v1, theta1 =
+    // asin(sqrt(1 - (b/2r)^2)) to the other side.
+    const Eigen::Vector3d ball_v = c * v1 * Eigen::Vector3d(c, -s, 0), tip_v = s * v1 * Eigen::Vector3d(s, c, 0);
+    worst = std::max({worst, (w.bodies()[0].v - ball_v).cwiseAbs().maxCoeff(), (w.tip().v - tip_v).cwiseAbs().maxCoeff()});
+  }
+  return {"eq2", {{"impact_parameters", 201.0}}, {{"max_abs_err", worst}}};
+}
+
+std::vector<Row> crosscheck_rows() {
+  std::vector<Row> rows;
+  for (const Scenario& s : scenarios()) {
+    const Divergence d = crosscheck(s);
+    rows.push_back({"crosscheck",
+                    {{"scenario", s.name}},
+                    {{"rel_vel_err", d.rel_vel_err},
+                     {"rel_angvel_err", d.rel_angvel_err},
+                     {"tolerance", s.tolerance},
+                     {"position_err_m", d.position_m},
+                     {"analytic_momentum_drift", d.momentum_drift[0]},
+                     {"mujoco_momentum_drift", d.momentum_drift[1]},
+                     {"analytic_angmom_drift", d.angular_momentum_drift[0]},
+                     {"mujoco_angmom_drift", d.angular_momentum_drift[1]},
+                     {"analytic_energy_change", d.energy_change[0]},
+                     {"mujoco_energy_change", d.energy_change[1]}}});
+  }
+  return rows;
+}
+
+// `n` cubes and spheres in a row on the plane; the tip sweeps along it.
+std::vector<Body> row_of(int n) {
+  std::vector<Body> out;
+  for (int i = 0; i < n; ++i) {
+    Body b;
+    b.shape = i % 2 ? Shape::cube : Shape::sphere;
+    b.size = 0.01, b.mass = 0.05;
+    b.x = Eigen::Vector3d(0.05 * i, 0.3 * (i % 3), 0.01);
+    out.push_back(b);
+  }
+  return out;
+}
+
+Tip sweep(int k) { return {Eigen::Vector3d(-0.05 + 1e-4 * k, 0, 0.012), Eigen::Vector3d(0.1, 0, 0)}; }
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+std::vector<Row> step_rows(bool quick) {
+  std::vector<Row> rows;
+  const int steps = quick ? 300 : 1000;
+  for (const int n : quick ? std::vector<int>{1, 10} : std::vector<int>{1, 10, 100}) {
+    progress("rigid step: " + std::to_string(n) + " bodies");
+    WorldSpec spec;
+    std::vector<double> mj;
+    {
+      MujocoWorld m(spec, row_of(n), 1e-3);
+      for (int k = 0; k < steps; ++k) {
+        m.set_tip(sweep(k));
+        const auto t0 = Clock::now();
+        m.step();
+        mj.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+      }
+    }
+    const double base = median(mj);
+    rows.push_back({"step", {{"backend", std::string("mujoco")}, {"bodies", double(n)}}, {{"us_per_step", base}, {"ratio_to_mujoco", 1.0}}});
+    for (const bool sleep : {true, false}) {
+      WorldSpec s = spec;
+      if (!sleep) s.sleep_time = 1e9;
+      World w(s, row_of(n));
+      std::vector<double> t;
+      for (int k = 0; k < steps; ++k) {
+        w.set_tip(sweep(k));
+        const auto t0 = Clock::now();
+        w.step(1e-3);
+        t.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+      }
+      const double us = median(t);
+      rows.push_back({"step",
+                      {{"backend", std::string(sleep ? "analytic" : "analytic_awake")}, {"bodies", double(n)}},
+                      {{"us_per_step", us}, {"ratio_to_mujoco", us / base}}});
+    }
+  }
+  return rows;
+}
+
+std::vector<Row> rigid_rows(const Context& c) {
+  std::vector<Row> rows;
+  progress("rigid eq2 over 201 impact parameters");
+  rows.push_back(eq2_row());
+  progress("rigid crosscheck against MuJoCo");
+  for (Row& r : crosscheck_rows()) rows.push_back(std::move(r));
+  for (Row& r : step_rows(c.quick)) rows.push_back(std::move(r));
+  return rows;
+}
+
+}  // namespace
+
+Suite rigid_suite() {
+  return {"rigid",
+          "rigid bodies (seed 000): eq 2 against its closed form, scenarios against MuJoCo, step cost per backend",
+          rigid_rows};
+}
+
+}  // namespace hcosim::cli
