@@ -49,7 +49,10 @@ std::string MujocoWorld::xml(const WorldSpec& spec, const std::vector<Body>& bod
                              const MujocoContact& c) {
   std::ostringstream o;
   o.precision(17);
-  o << "<mujoco model=\"rigid\">\n<option timestep=\"" << dt << "\" integrator=\"Euler\" cone=\"elliptic\" gravity=\""
+  // A cube has up to 4 contacts with the plane (8 with its corners in
+  // it), and each frictional contact 3 constraint rows.
+  const std::size_t ncon = 8 * bodies.size() + 8;
+  o << "<mujoco model=\"rigid\">\n<size nconmax=\"" << ncon << "\" njmax=\"" << 3 * ncon << "\"/>\n<option timestep=\"" << dt << "\" integrator=\"Euler\" cone=\"elliptic\" gravity=\""
     << spec.gravity.x() << " " << spec.gravity.y() << " " << spec.gravity.z() << "\"/>\n"
     << "<default><geom contype=\"0\" conaffinity=\"0\"/></default>\n<worldbody>\n";
   if (spec.ground) o << "<geom name=\"floor\" type=\"plane\" size=\"0 0 1\"/>\n";
