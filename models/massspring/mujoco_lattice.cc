@@ -1,10 +1,11 @@
 #include "massspring/mujoco_lattice.h"
 
-#include <cstring>
 #include <sstream>
 #include <stdexcept>
 
 #include <mujoco/mujoco.h>
+
+#include "mjcf/load.h"
 
 namespace hcosim::massspring {
 
@@ -63,21 +64,7 @@ MujocoLattice::MujocoLattice(const Lattice& l, double dt, const std::string& int
   if (integrator != "Euler" && integrator != "RK4")
     throw std::invalid_argument("mujoco lattice: integrator must be Euler or RK4, got '" + integrator + "'");
   const std::string text = xml(l, dt, integrator);
-  // mjVFS holds 2000 file names inline: too large for the stack.
-  auto vfs = std::make_unique<mjVFS>();
-  mj_defaultVFS(vfs.get());
-  if (mj_makeEmptyFileVFS(vfs.get(), "lattice.xml", int(text.size())) != 0)
-    throw std::runtime_error("mujoco lattice: cannot make the in-memory file");
-  std::memcpy(vfs->filedata[mj_findFileVFS(vfs.get(), "lattice.xml")], text.data(), text.size());
-  char error[1000] = "";
-  impl_->model = mj_loadXML("lattice.xml", vfs.get(), error, sizeof error);
-  mj_deleteVFS(vfs.get());
-  if (!impl_->model) throw std::runtime_error(std::string("mujoco lattice: MuJoCo refused the model: ") + error);
-  impl_->data = mj_makeData(impl_->model);
-  if (!impl_->data) {
-    mj_deleteModel(impl_->model);
-    throw std::runtime_error("mujoco lattice: cannot allocate mjData");
-  }
+  mjcf::load("mujoco lattice", text, impl_->model, impl_->data);
   impl_->rest = l.rest;
   impl_->body.resize(l.size());
   impl_->qadr.assign(l.size(), -1);

@@ -1,11 +1,12 @@
 #include "rigid/mujoco_world.h"
 
 #include <cmath>
-#include <cstring>
 #include <sstream>
 #include <stdexcept>
 
 #include <mujoco/mujoco.h>
+
+#include "mjcf/load.h"
 
 namespace hcosim::rigid {
 
@@ -84,20 +85,7 @@ MujocoWorld::MujocoWorld(const WorldSpec& spec, const std::vector<Body>& bodies,
   if (!(c.contact_steps >= 2) || !(c.impedance > 0 && c.impedance < 1))
     throw std::invalid_argument("mujoco world: contact_steps must be >= 2 and impedance in (0, 1)");
   const std::string text = xml(spec, bodies, dt, c);
-  auto vfs = std::make_unique<mjVFS>();  // about 2 MB: not on the stack
-  mj_defaultVFS(vfs.get());
-  if (mj_makeEmptyFileVFS(vfs.get(), "rigid.xml", int(text.size())) != 0)
-    throw std::runtime_error("mujoco world: cannot make the in-memory file");
-  std::memcpy(vfs->filedata[mj_findFileVFS(vfs.get(), "rigid.xml")], text.data(), text.size());
-  char error[1000] = "";
-  impl_->model = mj_loadXML("rigid.xml", vfs.get(), error, sizeof error);
-  mj_deleteVFS(vfs.get());
-  if (!impl_->model) throw std::runtime_error(std::string("mujoco world: MuJoCo refused the model: ") + error);
-  impl_->data = mj_makeData(impl_->model);
-  if (!impl_->data) {
-    mj_deleteModel(impl_->model);
-    throw std::runtime_error("mujoco world: cannot allocate mjData");
-  }
+  mjcf::load("mujoco world", text, impl_->model, impl_->data);
   impl_->spec = spec;
   impl_->constants = bodies;
   mjModel* m = impl_->model;
@@ -135,19 +123,22 @@ Tip MujocoWorld::tip() const {
   return t;
 }
 
-std::vector<Body> MujocoWorld::bodies() const {
+Body MujocoWorld::body(std::size_t i) const {
   const mjModel* m = impl_->model;
   const mjData* d = impl_->data;
-  std::vector<Body> out = impl_->constants;
-  for (std::size_t i = 0; i < out.size(); ++i) {
-    const int j = m->body_jntadr[impl_->body[i]], q = m->jnt_qposadr[j], v = m->jnt_dofadr[j];
-    Body& b = out[i];
-    b.x = Eigen::Vector3d(d->qpos[q], d->qpos[q + 1], d->qpos[q + 2]);
-    b.q = Eigen::Quaterniond(d->qpos[q + 3], d->qpos[q + 4], d->qpos[q + 5], d->qpos[q + 6]).normalized();
-    b.v = Eigen::Vector3d(d->qvel[v], d->qvel[v + 1], d->qvel[v + 2]);
-    b.w = b.q * Eigen::Vector3d(d->qvel[v + 3], d->qvel[v + 4], d->qvel[v + 5]);
-    b.sleeping = false;
-  }
+  const int j = m->body_jntadr[impl_->body[i]], q = m->jnt_qposadr[j], v = m->jnt_dofadr[j];
+  Body b = impl_->constants[i];
+  b.x = Eigen::Vector3d(d->qpos[q], d->qpos[q + 1], d->qpos[q + 2]);
+  b.q = Eigen::Quaterniond(d->qpos[q + 3], d->qpos[q + 4], d->qpos[q + 5], d->qpos[q + 6]).normalized();
+  b.v = Eigen::Vector3d(d->qvel[v], d->qvel[v + 1], d->qvel[v + 2]);
+  b.w = b.q * Eigen::Vector3d(d->qvel[v + 3], d->qvel[v + 4], d->qvel[v + 5]);
+  b.sleeping = false;
+  return b;
+}
+
+std::vector<Body> MujocoWorld::bodies() const {
+  std::vector<Body> out;
+  for (std::size_t i = 0; i < impl_->constants.size(); ++i) out.push_back(body(i));
   return out;
 }
 
@@ -156,9 +147,8 @@ void MujocoWorld::step() {
   mjData* d = impl_->data;
   const Drag& drag = impl_->spec.drag;
   mju_zero(d->xfrc_applied, 6 * m->nbody);
-  const std::vector<Body> now = bodies();
-  for (std::size_t i = 0; i < now.size(); ++i) {
-    const Body& b = now[i];
+  for (std::size_t i = 0; i < impl_->constants.size(); ++i) {
+    const Body b = body(i);
     const Eigen::Vector3d f = -(drag.linear + drag.quadratic * b.v.norm()) * b.v;
     const Eigen::Vector3d t = -(drag.angular_linear + drag.angular_quadratic * b.w.norm()) * b.w;
     for (int k = 0; k < 3; ++k) d->xfrc_applied[6 * impl_->body[i] + k] = f[k], d->xfrc_applied[6 * impl_->body[i] + 3 + k] = t[k];

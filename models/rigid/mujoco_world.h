@@ -42,6 +42,7 @@ class MujocoWorld {
   void set_tip(const Tip& t);
   Tip tip() const;
   std::vector<Body> bodies() const;  // sleeping is always false: MuJoCo 2.2.2 has no sleep
+  Body body(std::size_t i) const;     // one of them, without allocating
 
   // Totals as in World (about the world origin), and MuJoCo's own angular
   // momentum of the whole system about its centre of mass (mj_subtreeVel).

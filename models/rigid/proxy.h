@@ -22,7 +22,6 @@ class Proxy {
   Eigen::Vector3d update(const Body& b, double tip_radius, const Eigen::Vector3d& h);
 
   bool in_contact() const { return contact_; }
-  void release() { contact_ = false; }
 
  private:
   bool contact_ = false;

@@ -31,14 +31,22 @@ Eigen::Quaterniond rotation(const Eigen::Vector3d& w, double dt) {
 }
 
 // Points of the body that can touch the plane z = 0: a sphere's lowest
-// point, a cube's corners.
-std::vector<Eigen::Vector3d> support_points(const Body& b) {
-  if (b.shape == Shape::sphere) return {b.x - b.size * Eigen::Vector3d::UnitZ()};
-  std::vector<Eigen::Vector3d> out;
+// point, a cube's corners (no allocation: this runs every step).
+struct Support {
+  std::array<Eigen::Vector3d, 8> p;
+  int n = 0;
+};
+Support support_points(const Body& b) {
+  Support s;
+  if (b.shape == Shape::sphere) {
+    s.p[0] = b.x - b.size * Eigen::Vector3d::UnitZ(), s.n = 1;
+    return s;
+  }
   const Eigen::Matrix3d R = b.q.toRotationMatrix();
   for (int c = 0; c < 8; ++c)
-    out.push_back(b.x + R * (b.size * Eigen::Vector3d(c & 1 ? 1 : -1, c & 2 ? 1 : -1, c & 4 ? 1 : -1)));
-  return out;
+    s.p[std::size_t(c)] = b.x + R * (b.size * Eigen::Vector3d(c & 1 ? 1 : -1, c & 2 ? 1 : -1, c & 4 ? 1 : -1));
+  s.n = 8;
+  return s;
 }
 
 }  // namespace
@@ -64,24 +72,26 @@ Eigen::Vector3d contact_impulse(const Body& b, double tip_mass, const Eigen::Vec
   // zero when the cone allows.
   constexpr int kSteps = 400;
   const double dp = -vn0 / knn / kSteps;
-  Eigen::Vector3d P = Eigen::Vector3d::Zero();
-  Eigen::Vector3d t1 = n.unitOrthogonal(), t2 = n.cross(t1);
+  // The increment that keeps a stopped slip at zero: its tangential part
+  // solves (K dP)_t = 0, limited to the friction cone.
+  const Eigen::Vector3d t1 = n.unitOrthogonal(), t2 = n.cross(t1);
   Eigen::Matrix2d Ktt;
   Ktt << t1.dot(K * t1), t1.dot(K * t2), t2.dot(K * t1), t2.dot(K * t2);
-  const Eigen::Vector2d Ktn(t1.dot(K * n), t2.dot(K * n));
-  const double slip_floor = 1e-9 * std::abs(vn0);
+  const Eigen::Vector2d x = -Ktt.ldlt().solve(dp * Eigen::Vector2d(t1.dot(K * n), t2.dot(K * n)));
+  const Eigen::Vector3d hold = x[0] * t1 + x[1] * t2;
+  const Eigen::Vector3d stick = dp * n + (x.norm() <= mu * dp ? hold : Eigen::Vector3d(hold * (mu * dp / x.norm())));
+  Eigen::Vector3d P = Eigen::Vector3d::Zero();
   double compression = -1;  // the normal impulse when the approach ended
   for (int k = 0; k < 100 * kSteps; ++k) {
     if (compression < 0 && v.dot(n) >= 0) compression = P.dot(n);
     if (compression >= 0 && P.dot(n) >= (1 + e) * compression) break;
     const Eigen::Vector3d vt = v - v.dot(n) * n;
-    Eigen::Vector3d dP;
-    if (vt.norm() > slip_floor) {
-      dP = dp * (n - mu * vt.normalized());
-    } else {
-      const Eigen::Vector2d x = -Ktt.ldlt().solve(dp * Ktn);  // tangential impulse keeping the slip at zero
-      dP = x.norm() <= mu * dp ? Eigen::Vector3d(dp * n + x[0] * t1 + x[1] * t2)
-                               : Eigen::Vector3d(dp * n + (mu * dp / x.norm()) * (x[0] * t1 + x[1] * t2));
+    Eigen::Vector3d dP = stick;
+    if (vt.norm() > 0) {
+      // Sliding, unless this increment would reverse the slip: it stops.
+      const Eigen::Vector3d slide = dp * (n - mu * vt.normalized());
+      const Eigen::Vector3d after = v + K * slide;
+      if ((after - after.dot(n) * n).dot(vt) > 0) dP = slide;
     }
     v += K * dP;
     P += dP;
@@ -149,11 +159,6 @@ void World::set_tip(const Tip& t) {
   tip_ = t;
 }
 
-void World::wake(int body) {
-  Body& b = bodies_.at(std::size_t(body));
-  b.sleeping = false, b.still_s = 0;
-}
-
 void World::hit(Body& b, double dt, StepReport& r) {
   const double t = time_of_impact(b, tip_, spec_.tip_radius, dt);
   if (t < 0) return;
@@ -180,8 +185,8 @@ void World::hit(Body& b, double dt, StepReport& r) {
   ++r.hits;
 }
 
-// Sequential impulses over the body's points touching the plane: the
-// normal impulse never pulls, friction stays in its cone, and impacts
+// Impulses at the body's points touching the plane: the normal impulse
+// never pulls, friction stays in its cone, and impacts
 // faster than bounce_speed bounce with the floor's restitution.
 void World::floor(Body& b) const {
   struct Touch {
@@ -189,15 +194,17 @@ void World::floor(Body& b) const {
     double target = 0, normal = 0;
     Eigen::Vector2d tangent = Eigen::Vector2d::Zero();
   };
-  std::vector<Touch> touches;
+  std::array<Touch, 8> touches;
+  std::size_t count = 0;
   const double slop = 1e-3 * b.size;
-  for (const Eigen::Vector3d& p : support_points(b)) {
+  const Support s = support_points(b);
+  for (int i = 0; i < s.n; ++i) {
+    const Eigen::Vector3d& p = s.p[std::size_t(i)];
     if (p.z() > slop) continue;
-    Touch t;
+    Touch& t = touches[count++];
     t.r = p - b.x;
     const double vn = point_velocity(b, p).z();
     t.target = vn < -spec_.bounce_speed ? -spec_.floor.restitution * vn : 0;
-    touches.push_back(t);
   }
   const double I = inertia(b), mu = spec_.floor.friction;
   auto apply = [&](const Eigen::Vector3d& r, const Eigen::Vector3d& P) {
@@ -210,21 +217,23 @@ void World::floor(Body& b) const {
   // get equal impulses. Gauss-Seidel sweeps in any order tilt a resting
   // cube a little each step toward the corner visited first.
   const Eigen::Vector3d ez = Eigen::Vector3d::UnitZ();
-  const double relax = touches.empty() ? 0 : 1.0 / double(touches.size());
+  if (count == 0) return;
+  const double relax = 1.0 / double(count);
+  std::array<Eigen::Vector3d, 8> impulses;
   for (int iter = 0; iter < 30; ++iter) {
     const Eigen::Vector3d v0 = b.v, w0 = b.w;
-    std::vector<Eigen::Vector3d> impulses;
-    for (Touch& t : touches) {
+    for (std::size_t i = 0; i < count; ++i) {
+      Touch& t = touches[i];
       const Eigen::Vector3d v = v0 + w0.cross(t.r);
       const double total = std::max(0.0, t.normal + relax * (t.target - v.z()) / k(t.r, ez));
       Eigen::Vector2d tangent = t.tangent;
       tangent.x() -= relax * v.x() / k(t.r, Eigen::Vector3d::UnitX());
       tangent.y() -= relax * v.y() / k(t.r, Eigen::Vector3d::UnitY());
       if (tangent.norm() > mu * total) tangent *= mu * total / tangent.norm();
-      impulses.push_back(Eigen::Vector3d(tangent.x() - t.tangent.x(), tangent.y() - t.tangent.y(), total - t.normal));
+      impulses[i] = Eigen::Vector3d(tangent.x() - t.tangent.x(), tangent.y() - t.tangent.y(), total - t.normal);
       t.normal = total, t.tangent = tangent;
     }
-    for (std::size_t i = 0; i < touches.size(); ++i) apply(touches[i].r, impulses[i]);
+    for (std::size_t i = 0; i < count; ++i) apply(touches[i].r, impulses[i]);
   }
 }
 
@@ -245,7 +254,8 @@ StepReport World::step(double dt) {
     b.q = (rotation(b.w, dt) * b.q).normalized();
     if (spec_.ground) {
       double low = 0;
-      for (const Eigen::Vector3d& p : support_points(b)) low = std::min(low, p.z());
+      const Support s = support_points(b);
+      for (int i = 0; i < s.n; ++i) low = std::min(low, s.p[std::size_t(i)].z());
       b.x.z() -= low;  // out of the plane
     }
     const bool slow = b.v.norm() < spec_.sleep_speed && b.w.norm() * b.size < spec_.sleep_speed;

@@ -80,8 +80,6 @@ class World {
   const Tip& tip() const { return tip_; }
 
   const std::vector<Body>& bodies() const { return bodies_; }
-  const WorldSpec& spec() const { return spec_; }
-  void wake(int body);
 
   // Totals over bodies and tip: momentum (kg m/s), angular momentum about
   // the world origin (kg m^2/s), kinetic energy (J).
