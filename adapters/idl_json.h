@@ -24,6 +24,7 @@ void write_json(Json& j, const ForceFeedback& s);
 void write_json(Json& j, const MarkerPose& s);
 void write_json(Json& j, const CameraFrame& s);
 void write_json(Json& j, const RigidBodyState& s);
+void write_json(Json& j, const RigidDivergence& s);
 void write_json(Json& j, const DeformedMesh& s);
 void write_json(Json& j, const MeshTopology& s);
 void write_json(Json& j, const ServiceStatus& s);

@@ -116,6 +116,15 @@ Problem validate(const RigidBodyState& s) {
                check("angular_velocity", s.angular_velocity(), kMaxAngularRadps));
 }
 
+Problem validate(const RigidDivergence& s) {
+  const double d[4] = {s.position_m(), s.orientation_rad(), s.velocity_m_s(), s.angular_velocity_rad_s()};
+  for (double x : d)
+    if (!(x >= 0)) return "a divergence is " + fmt(x) + ", not a norm";
+  return first(check(s.stamp()), check("position_m", s.position_m(), 2 * kMaxDistanceM),
+               check("orientation_rad", s.orientation_rad(), 4), check("velocity_m_s", s.velocity_m_s(), 2 * kMaxSpeedMps),
+               check("angular_velocity_rad_s", s.angular_velocity_rad_s(), 2 * kMaxAngularRadps));
+}
+
 Problem validate(const DeformedMesh& s) {
   if (auto p = check(s.stamp())) return p;
   if (s.positions().size() % 3 != 0) return std::string("positions length is not a multiple of 3");

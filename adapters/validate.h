@@ -31,6 +31,7 @@ std::optional<std::string> validate(const ForceFeedback& s);
 std::optional<std::string> validate(const MarkerPose& s);
 std::optional<std::string> validate(const CameraFrame& s);
 std::optional<std::string> validate(const RigidBodyState& s);
+std::optional<std::string> validate(const RigidDivergence& s);
 std::optional<std::string> validate(const DeformedMesh& s);
 std::optional<std::string> validate(const MeshTopology& s);
 std::optional<std::string> validate(const ServiceStatus& s);

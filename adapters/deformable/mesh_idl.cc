@@ -4,30 +4,6 @@
 
 namespace hcosim::deformable {
 
-namespace {
-
-Vec3 vec(const Eigen::Vector3d& v) {
-  Vec3 out;
-  out.x(v.x()), out.y(v.y()), out.z(v.z());
-  return out;
-}
-
-}  // namespace
-
-ForceFeedback force_feedback(const std::string& source, const std::string& device, std::uint64_t seq,
-                             const StepStamp& stamp, const Touch& t) {
-  ForceFeedback f;
-  f.source(source);
-  f.device(device);
-  f.answers_seq(seq);
-  f.stamp(stamp);
-  f.force(vec(t.force));
-  f.in_contact(t.in_contact);
-  f.penetration_m(t.depth);
-  f.stiffness_n_per_m(t.stiffness);
-  return f;
-}
-
 MeshTopology mesh_topology(const std::string& mesh, int vertex_count, const std::vector<Eigen::Vector3i>& triangles) {
   MeshTopology t;
   t.mesh(mesh);

@@ -1,5 +1,5 @@
-// Conversions from the deformable models to the ForceFeedback,
-// DeformedMesh and MeshTopology topics.
+// Conversions from the deformable models to the DeformedMesh and
+// MeshTopology topics (forces: device/haptic_idl.h).
 #pragma once
 
 #include <string>
@@ -8,14 +8,9 @@
 #include <Eigen/Core>
 
 #include "deformable/object.h"
-#include "hcosim/idl/haptic.h"
 #include "hcosim/idl/mesh.h"
 
 namespace hcosim::deformable {
-
-// The answer of object `source` to HapticState `seq` of `device`.
-ForceFeedback force_feedback(const std::string& source, const std::string& device, std::uint64_t seq,
-                             const StepStamp& stamp, const Touch& touch);
 
 // Version 1 of an object's topology.
 MeshTopology mesh_topology(const std::string& mesh, int vertex_count, const std::vector<Eigen::Vector3i>& triangles);

@@ -18,4 +18,18 @@ HapticState haptic_state(const std::string& device, std::uint64_t seq, const Ste
   return s;
 }
 
+ForceFeedback force_feedback(const std::string& source, const std::string& device, std::uint64_t seq,
+                             const StepStamp& stamp, const Feel& feel) {
+  ForceFeedback f;
+  f.source(source);
+  f.device(device);
+  f.answers_seq(seq);
+  f.stamp(stamp);
+  f.force(to_idl(feel.force));
+  f.in_contact(feel.in_contact);
+  f.penetration_m(feel.depth);
+  f.stiffness_n_per_m(feel.stiffness);
+  return f;
+}
+
 }  // namespace hcosim::device

@@ -23,4 +23,16 @@ inline Vec3 to_idl(const Eigen::Vector3d& v) {
 HapticState haptic_state(const std::string& device, std::uint64_t seq, const StepStamp& stamp, const Frame& frame,
                          const Eigen::Vector3d& rendered);
 
+// What the stylus feels from one source over a tick.
+struct Feel {
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();  // N, on the stylus, world frame
+  bool in_contact = false;
+  double depth = 0;      // m, >= 0: how far the HIP is inside the source
+  double stiffness = 0;  // N/m, >= 0: the contact's stiffness
+};
+
+// The answer of `source` to HapticState `seq` of `device`.
+ForceFeedback force_feedback(const std::string& source, const std::string& device, std::uint64_t seq,
+                             const StepStamp& stamp, const Feel& feel);
+
 }  // namespace hcosim::device

@@ -170,7 +170,8 @@ int run(int argc, char** argv) {
         const deformable::Touch t = it.model->touch(servo_dt, hip, grab);
         it.contacts += t.in_contact;
         it.max_force = std::max(it.max_force, t.force.norm());
-        ForceFeedback f = deformable::force_feedback(it.name, device, latest.seq(), svc.stamp(tick), t);
+        ForceFeedback f = device::force_feedback(it.name, device, latest.seq(), svc.stamp(tick),
+                                                 {t.force, t.in_contact, t.depth, t.stiffness});
         force.write(f);
       }
     }

@@ -31,6 +31,7 @@ HCOSIM_TOPIC(ForceFeedback, "ForceFeedback", "control");
 HCOSIM_TOPIC(MarkerPose, "MarkerPose", "state");
 HCOSIM_TOPIC(CameraFrame, "CameraFrame", "state");
 HCOSIM_TOPIC(RigidBodyState, "RigidBodyState", "state");
+HCOSIM_TOPIC(RigidDivergence, "RigidDivergence", "state");
 HCOSIM_TOPIC(DeformedMesh, "DeformedMesh", "state");
 HCOSIM_TOPIC(MeshTopology, "DeformedMeshTopology", "latched");
 HCOSIM_TOPIC(ServiceStatus, "ServiceStatus", "state");
@@ -40,7 +41,7 @@ HCOSIM_TOPIC(StepDone, "StepDone", "sequence");
 #undef HCOSIM_TOPIC
 
 using AllTypes = std::tuple<HapticState, ForceFeedback, MarkerPose, CameraFrame, RigidBodyState,
-                            DeformedMesh, MeshTopology, ServiceStatus, ClockTick, StepDone>;
+                            RigidDivergence, DeformedMesh, MeshTopology, ServiceStatus, ClockTick, StepDone>;
 
 // Carries a type to generic lambdas: f(TypeTag<T>{}).
 template <class T>

@@ -17,13 +17,13 @@ TEST(Topics, TypeNamesMatchGeneratedTypeSupport) {
     EXPECT_STREQ(support.getName(), TopicOf<T>::type_name);
     ++n;
   });
-  EXPECT_EQ(n, 10);
+  EXPECT_EQ(n, 11);
 }
 
 TEST(Topics, NamesAreUniqueAndFindable) {
   std::set<std::string> names;
   for_each_topic([&](auto tag) { names.insert(TopicOf<typename decltype(tag)::type>::name); });
-  EXPECT_EQ(names.size(), 10u);
+  EXPECT_EQ(names.size(), 11u);
   EXPECT_TRUE(names.count("DeformedMesh"));
   for (const auto& n : names) EXPECT_TRUE(with_topic(n, [](auto) {})) << n;
   EXPECT_FALSE(with_topic("NoSuchTopic", [](auto) {}));

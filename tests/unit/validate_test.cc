@@ -87,6 +87,26 @@ TEST(Validate, CameraFrameSizeMatchesEncoding) {
   EXPECT_EQ(validate(f).value_or(""), "encoding 'rgb16' is not bgr8 or mono8");
 }
 
+TEST(Validate, RigidStateNeedsAUnitQuaternionAndFiniteVelocities) {
+  RigidBodyState s;
+  s.pose().orientation().w(1.0);
+  EXPECT_FALSE(validate(s));
+  s.angular_velocity().z(std::numeric_limits<double>::infinity());
+  ASSERT_TRUE(validate(s));
+  EXPECT_EQ(*validate(s), "angular_velocity.z is +Inf");
+}
+
+TEST(Validate, DivergencesAreNorms) {
+  RigidDivergence d;
+  d.position_m(0.01);
+  EXPECT_FALSE(validate(d));
+  d.velocity_m_s(-1);
+  ASSERT_TRUE(validate(d));
+  EXPECT_EQ(*validate(d), "a divergence is -1, not a norm");
+  d.velocity_m_s(std::nan(""));
+  EXPECT_EQ(*validate(d), "a divergence is NaN, not a norm");
+}
+
 TEST(Validate, ClockTickNeedsAPositiveStep) {
   ClockTick t;
   EXPECT_TRUE(validate(t));

@@ -1,0 +1,39 @@
+#include "rigid/rigid_idl.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Geometry>
+
+#include "device/haptic_idl.h"
+
+namespace hcosim::rigid {
+
+RigidBodyState body_state(const std::string& name, const StepStamp& stamp, const Body& b, const char* backend) {
+  RigidBodyState s;
+  s.body(name);
+  s.stamp(stamp);
+  s.shape(rigid::name(b.shape));
+  s.backend(backend);
+  s.pose().position(device::to_idl(b.x));
+  s.pose().orientation().w(b.q.w()), s.pose().orientation().x(b.q.x());
+  s.pose().orientation().y(b.q.y()), s.pose().orientation().z(b.q.z());
+  s.linear_velocity(device::to_idl(b.v));
+  s.angular_velocity(device::to_idl(b.w));
+  s.sleeping(b.sleeping);
+  return s;
+}
+
+RigidDivergence divergence(const std::string& name, const StepStamp& stamp, const Body& a, const Body& m) {
+  RigidDivergence d;
+  d.body(name);
+  d.stamp(stamp);
+  d.position_m((a.x - m.x).norm());
+  // q and -q are one rotation: the angle between them uses |dot|.
+  d.orientation_rad(2 * std::acos(std::min(1.0, std::abs(a.q.normalized().dot(m.q.normalized())))));
+  d.velocity_m_s((a.v - m.v).norm());
+  d.angular_velocity_rad_s((a.w - m.w).norm());
+  return d;
+}
+
+}  // namespace hcosim::rigid

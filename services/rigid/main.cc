@@ -1,0 +1,210 @@
+// hcosim_rigid: the rigid body service (seed 000 §2.1). Every physics tick
+// it takes the latest HapticState of its device, drives the stylus tip
+// with it, steps the scene (the analytic model, MuJoCo, or both side by
+// side in crosscheck mode), answers with one ForceFeedback from the
+// god-object proxies of all bodies, and publishes each body's
+// RigidBodyState; in crosscheck mode also each body's RigidDivergence.
+// Params: docs/rigid.md.
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+#include <vector>
+
+#include "device/haptic_idl.h"
+#include "rigid/mujoco_world.h"
+#include "rigid/proxy.h"
+#include "rigid/rigid_idl.h"
+#include "rigid/world.h"
+#include "service.h"
+
+using namespace hcosim;
+using namespace hcosim::rt;
+
+namespace {
+
+// Where the tip waits until the device's first state: 1 m above the
+// marker, clear of any scene the service accepts.
+constexpr double kParkedTipZ = 1.0;
+// A device state older than this no longer moves the tip: the tip stops
+// where it is, so that a silent device cannot carry it through the scene.
+constexpr double kStaleState = 0.02;  // s
+// A sleeping body's state is repeated this often, for late subscribers.
+constexpr double kSleepingRepeat = 1.0;  // s
+
+struct Item {
+  std::string name;
+  double max_speed = 0;          // m/s
+  double next_publish = 0;       // s, when a sleeping body is published again
+  bool was_sleeping = false;
+};
+
+rigid::Material material(const Params& p, const std::string& prefix, rigid::Material m) {
+  m.restitution = p.number(prefix + "restitution", m.restitution, 0, 1);
+  m.friction = p.number(prefix + "friction", m.friction, 0, 10);
+  return m;
+}
+
+rigid::Body make_body(const Params& o, bool ground) {
+  o.allow_only({"name", "shape", "size", "mass", "centre", "velocity", "angular_velocity"});
+  rigid::Body b;
+  b.shape = rigid::parse_shape(o.text("shape", "sphere", {"sphere", "cube"}));
+  b.size = o.number("size", b.size, 1e-3, 1);
+  b.mass = o.number("mass", b.mass, 1e-3, 100);
+  const auto c = o.vec3("centre", {0, 0, b.size});
+  const auto v = o.vec3("velocity", {0, 0, 0});
+  const auto w = o.vec3("angular_velocity", {0, 0, 0});
+  b.x = {c[0], c[1], c[2]};
+  b.v = {v[0], v[1], v[2]};
+  b.w = {w[0], w[1], w[2]};
+  if (b.x.norm() > 2) o.fail("centre", "a body more than 2 m from the marker is outside any rig");
+  // A cube's lowest point is its centre minus size (it starts axis-aligned).
+  if (ground && b.x.z() < b.size - 1e-9)
+    o.fail("centre", "centre z must be at least size: the body would start inside the marker plane (ground: on)");
+  return b;
+}
+
+int run(int argc, char** argv) {
+  Service svc(parse_options(argc, argv));
+  const Params& p = svc.params();
+  p.allow_only({"device", "backend", "bodies", "ground", "restitution", "friction", "floor_restitution",
+                "floor_friction", "tip_radius", "tip_mass", "stiffness", "max_force", "mujoco_substeps"});
+  const std::string device = p.string("device", "omni");
+  const std::string backend = p.text("backend", "analytic", {"analytic", "mujoco", "crosscheck"});
+  const double dt = 1 / svc.options().rate_hz;
+  rigid::WorldSpec spec;
+  spec.ground = p.text("ground", "on", {"on", "off"}) == "on";
+  spec.tip = material(p, "", spec.tip);
+  spec.floor = material(p, "floor_", spec.floor);
+  spec.tip_radius = p.number("tip_radius", spec.tip_radius, 0, 0.05);
+  spec.tip_mass = p.number("tip_mass", spec.tip_mass, 1e-3, 10);
+  const double stiffness = p.number("stiffness", 500, 1, 1e4);
+  const double max_force = p.number("max_force", 3.3, 0.1, 100);
+  const int substeps = int(p.number("mujoco_substeps", 10, 1, 100));
+
+  std::vector<Item> items;
+  std::vector<rigid::Body> bodies;
+  for (const Params& o : p.list("bodies")) {
+    const std::string name = o.string("name", "");
+    if (name.empty() || name.size() > 31) o.fail("name", "each body needs a name of 1 to 31 characters");
+    for (const Item& it : items)
+      if (it.name == name) o.fail("name", "two bodies are named '" + name + "'");
+    items.push_back({name});
+    bodies.push_back(make_body(o, spec.ground));
+  }
+  if (items.empty()) p.fail("bodies", "hcosim_rigid: params.bodies lists no body; docs/rigid.md");
+
+  // The primary model gives the states and the forces; in crosscheck mode
+  // MuJoCo runs beside the analytic model and only its divergence is told.
+  std::unique_ptr<rigid::World> analytic;
+  std::unique_ptr<rigid::MujocoWorld> mujoco;
+  if (backend != "mujoco") analytic = std::make_unique<rigid::World>(spec, bodies);
+  if (backend != "analytic") {
+    std::printf("%s: building the MuJoCo scene, %d substeps of %.3g ms per tick\n", svc.options().name.c_str(),
+                substeps, 1e3 * dt / substeps);
+    std::fflush(stdout);
+    mujoco = std::make_unique<rigid::MujocoWorld>(spec, bodies, dt / substeps);
+  }
+  const char* primary = analytic ? "analytic" : "mujoco";
+  const auto body = [&](std::size_t i) { return analytic ? analytic->bodies()[i] : mujoco->body(i); };
+  const auto set_tip = [&](const rigid::Tip& t) {
+    if (analytic) analytic->set_tip(t);
+    if (mujoco) mujoco->set_tip(t);
+  };
+  rigid::Tip tip;
+  tip.x = {0, 0, kParkedTipZ};
+  set_tip(tip);
+
+  Reader<HapticState> in = svc.reader<HapticState>();
+  Writer<ForceFeedback> force(svc.participant());
+  Writer<RigidBodyState> states(svc.participant());
+  Writer<RigidDivergence> divergences(svc.participant());
+  std::vector<rigid::Proxy> proxies(items.size());
+  Window step_us(1 << 16);
+  HapticState latest;
+  bool have = false;
+  double state_time = 0;  // s, when `latest` arrived
+  std::uint64_t contact_ticks = 0, hits = 0;  // hits: tip impulses of the analytic model
+  double felt = 0, worst[4] = {0, 0, 0, 0};  // max force; max divergences
+  const int status = svc.run([&](const Tick& tick) {
+    const double now = tick.sim_time_ns * 1e-9;
+    in.take([&](const HapticState& s) {
+      if (s.device().to_string() == device) latest = s, have = true, state_time = now;
+    });
+    const std::int64_t t0 = mono_ns();
+    device::Feel feel;
+    if (have) {
+      // The god-object proxies of every body, summed and clamped as one
+      // source. The tip that touches the scene is the deepest proxy, not
+      // the HIP: a HIP pushed into a body must not place the tip inside it
+      // (MuJoCo would answer with a huge soft-contact force).
+      const Eigen::Vector3d h = device::from_idl(latest.position());
+      tip.x = h;
+      for (std::size_t i = 0; i < items.size(); ++i) {
+        const Eigen::Vector3d proxy = proxies[i].update(body(i), spec.tip_radius, h);
+        if (!proxies[i].in_contact()) continue;
+        feel.force += stiffness * (proxy - h);
+        if (!feel.in_contact || (proxy - h).norm() > feel.depth) feel.depth = (proxy - h).norm(), tip.x = proxy;
+        feel.in_contact = true;
+      }
+      feel.force = rigid::proxy_force(h + feel.force / stiffness, h, stiffness, max_force);
+      feel.stiffness = feel.in_contact ? stiffness : 0;
+      tip.v = now - state_time <= kStaleState ? device::from_idl(latest.velocity()) : Eigen::Vector3d::Zero();
+      set_tip(tip);
+    }
+    if (analytic) hits += std::uint64_t(analytic->step(dt).hits);
+    if (mujoco)
+      for (int k = 0; k < substeps; ++k) mujoco->step();
+    const StepStamp stamp = svc.stamp(tick);
+    if (have) {
+      contact_ticks += feel.in_contact;
+      felt = std::max(felt, feel.force.norm());
+      ForceFeedback f = device::force_feedback(svc.options().name, device, latest.seq(), stamp, feel);
+      force.write(f);
+    }
+    step_us.add((mono_ns() - t0) * 1e-3);
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      Item& it = items[i];
+      const rigid::Body b = body(i);
+      it.max_speed = std::max(it.max_speed, b.v.norm());
+      // Awake bodies every tick; a sleeping one when it falls asleep, then
+      // once a second.
+      const bool due = !b.sleeping || !it.was_sleeping || now + 1e-12 >= it.next_publish;
+      it.was_sleeping = b.sleeping;
+      if (!due) continue;
+      if (b.sleeping) it.next_publish = now + kSleepingRepeat;
+      if (states.matched() == 0) {
+        svc.skip_output();
+      } else {
+        RigidBodyState s = rigid::body_state(it.name, stamp, b, primary);
+        states.write(s);
+      }
+      if (analytic && mujoco) {
+        RigidDivergence d = rigid::divergence(it.name, stamp, b, mujoco->body(i));
+        const double e[4] = {d.position_m(), d.orientation_rad(), d.velocity_m_s(), d.angular_velocity_rad_s()};
+        for (int k = 0; k < 4; ++k) worst[k] = std::max(worst[k], e[k]);
+        if (divergences.matched() == 0)
+          svc.skip_output();
+        else
+          divergences.write(d);
+      }
+    }
+  });
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const rigid::Body b = body(i);
+    std::printf("%s: %s at [%.4f, %.4f, %.4f] m, max speed %.3f m/s, %s\n", items[i].name.c_str(), rigid::name(b.shape),
+                b.x.x(), b.x.y(), b.x.z(), items[i].max_speed, b.sleeping ? "asleep" : "awake");
+  }
+  std::printf("%s: %s backend, tip and bodies step p50 %.1f us p99 %.1f us over %zu ticks; %llu tip hits, "
+              "%llu ticks in contact, max force %.3f N\n",
+              svc.options().name.c_str(), backend.c_str(), step_us.percentile(0.5), step_us.percentile(0.99),
+              step_us.size(), static_cast<unsigned long long>(hits), static_cast<unsigned long long>(contact_ticks), felt);
+  if (analytic && mujoco)
+    std::printf("%s: max divergence from MuJoCo: position %.3g m, orientation %.3g rad, velocity %.3g m/s, "
+                "angular velocity %.3g rad/s\n",
+                svc.options().name.c_str(), worst[0], worst[1], worst[2], worst[3]);
+  return status;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) { return guarded_main("hcosim_rigid", [&] { return run(argc, argv); }); }
