@@ -65,7 +65,24 @@ Eigen::Vector3d contact_impulse(const Body& b, double tip_mass, const Eigen::Vec
   const Eigen::Matrix3d K = (1 / tip_mass + 1 / b.mass) * Eigen::Matrix3d::Identity() - rx * rx / inertia(b);
   const double e = m.restitution, mu = m.friction, knn = n.dot(K * n);
   if (mu == 0) return -(1 + e) * vn0 / knn * n;  // Newton's law, exact
-  // With friction the slip can stop or turn during the impact, so the
+  const Eigen::Vector3d t1 = n.unitOrthogonal(), t2 = n.cross(t1);
+  Eigen::Matrix2d Ktt;
+  Ktt << t1.dot(K * t1), t1.dot(K * t2), t2.dot(K * t1), t2.dot(K * t2);
+  const Eigen::Vector2d Ktn(t1.dot(K * n), t2.dot(K * n));
+  // Contact point on the line through the centre (every sphere hit, a
+  // cube's face centre): normal and tangential motion decouple, the slip
+  // keeps its direction and slows linearly with the normal impulse, and
+  // the impulse has a closed form: sliding throughout, or stopping.
+  const double scale = Ktt.trace();
+  if (Ktn.norm() <= 1e-12 * scale && std::abs(Ktt(0, 1)) <= 1e-12 * scale &&
+      std::abs(Ktt(0, 0) - Ktt(1, 1)) <= 1e-12 * scale) {
+    const double pn = -(1 + e) * vn0 / knn;
+    const Eigen::Vector3d vt = v - vn0 * n;
+    const double slip = vt.norm(), kt = Ktt(0, 0);
+    if (slip == 0) return pn * n;
+    return pn * n - std::min(mu * pn, slip / kt) * (vt / slip);
+  }
+  // Otherwise the slip can stop or turn during the impact, so the
   // impulse is integrated over the normal impulse (Routh; Stronge's
   // energetic restitution for a compression then a restitution phase):
   // each increment's friction opposes the current slip, or holds it at
@@ -74,10 +91,7 @@ Eigen::Vector3d contact_impulse(const Body& b, double tip_mass, const Eigen::Vec
   const double dp = -vn0 / knn / kSteps;
   // The increment that keeps a stopped slip at zero: its tangential part
   // solves (K dP)_t = 0, limited to the friction cone.
-  const Eigen::Vector3d t1 = n.unitOrthogonal(), t2 = n.cross(t1);
-  Eigen::Matrix2d Ktt;
-  Ktt << t1.dot(K * t1), t1.dot(K * t2), t2.dot(K * t1), t2.dot(K * t2);
-  const Eigen::Vector2d x = -Ktt.ldlt().solve(dp * Eigen::Vector2d(t1.dot(K * n), t2.dot(K * n)));
+  const Eigen::Vector2d x = -Ktt.ldlt().solve(dp * Ktn);
   const Eigen::Vector3d hold = x[0] * t1 + x[1] * t2;
   const Eigen::Vector3d stick = dp * n + (x.norm() <= mu * dp ? hold : Eigen::Vector3d(hold * (mu * dp / x.norm())));
   Eigen::Vector3d P = Eigen::Vector3d::Zero();
