@@ -99,10 +99,12 @@ class World {
 // The impulse (N s) on a particle of mass `tip_mass` moving at tip_v that
 // touches body b at world point p with unit normal n (out of the body):
 // zero unless approaching. Without friction, Newton's restitution in
-// closed form. With Coulomb friction, the impulse integrated over the
-// normal impulse in 400 increments (slip may stop or turn during the
-// impact), restitution as the ratio of restitution to compression impulse
-// (Poisson). The body takes the opposite impulse at p.
+// closed form. With Coulomb friction, in closed form where p lies on the
+// line through the centre along n (the slip keeps its direction);
+// elsewhere integrated over the normal impulse in 400 increments (slip
+// may stop or turn during the impact). Restitution is the ratio of
+// restitution to compression impulse (Poisson). The body takes the
+// opposite impulse at p.
 Eigen::Vector3d contact_impulse(const Body& b, double tip_mass, const Eigen::Vector3d& tip_v, const Eigen::Vector3d& p,
                                 const Eigen::Vector3d& n, const Material& m);
 
