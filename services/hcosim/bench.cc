@@ -221,6 +221,7 @@ const std::vector<Suite>& suites() {
       haptic_suite(),
       hybrid_suite(),
       rigid_suite(),
+      tracking_suite(),
   };
   return all;
 }

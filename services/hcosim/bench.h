@@ -52,6 +52,9 @@ Suite hybrid_suite();
 // The rigid model against eq 2 and MuJoCo, and its step cost: bench_rigid.cc.
 Suite rigid_suite();
 
+// Marker detection and pose against ground truth and ArUco: bench_tracking.cc.
+Suite tracking_suite();
+
 // 1 kHz HapticState -> ForceFeedback round trips, us (bench.cc).
 struct Rtt {
   rt::Window us{1 << 20};
