@@ -8,6 +8,7 @@
 #include <ctime>
 #include <iostream>
 #include <stdexcept>
+#include <thread>
 #include <unistd.h>
 
 namespace hcosim::rt {
@@ -209,6 +210,12 @@ int Service::run_lockstep(const std::function<void(const Tick&)>& step) {
         step(Tick{t.step(), t.sim_time_ns(), double(period_steps_) * double(t.step_ns()) * 1e-9});
         record_step(0.0, (mono_ns() - t0) * 1e-3, false);
       }
+      // The clock matches this writer from its reader's side before it
+      // sends tick 0, but this writer may not have matched that reader
+      // yet: a VOLATILE sample written then is lost and the clock waits
+      // forever (seen in CI). Wait for this side's match first.
+      for (int i = 0; i < 5000 && done.matched() == 0 && !g_stop; ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
       StepDone d;
       d.service(options_.name);
       d.step(t.step());
