@@ -146,7 +146,7 @@ int run(int argc, char** argv) {
         if (!feel.in_contact || (proxy - h).norm() > feel.depth) feel.depth = (proxy - h).norm(), tip.x = proxy;
         feel.in_contact = true;
       }
-      feel.force = rigid::proxy_force(h + feel.force / stiffness, h, stiffness, max_force);
+      if (feel.force.norm() > max_force) feel.force *= max_force / feel.force.norm();
       feel.stiffness = feel.in_contact ? stiffness : 0;
       tip.v = now - state_time <= kStaleState ? device::from_idl(latest.velocity()) : Eigen::Vector3d::Zero();
       set_tip(tip);

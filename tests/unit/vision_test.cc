@@ -29,8 +29,7 @@ double max_corner_error(const Detection& d, const std::vector<Eigen::Vector2d>& 
   return worst;
 }
 
-// Facing the camera the refit corners are exact to 0.05 px; tilted, a
-// bias of up to 0.15 px remains (docs/tracking.md).
+// Tilted tags keep a small corner bias after the refit (docs/tracking.md).
 TEST(Vision, CornersComeInTheTagFramesOrderToAFifthOfAPixel) {
   const Intrinsics k = synthetic_intrinsics(640, 480);
   const SyntheticCamera cam(k, Marker{});
