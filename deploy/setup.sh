@@ -4,12 +4,13 @@
 set -euo pipefail
 
 # libqhull-dev: the mujoco CMake package names its include directory.
+# jq: the tests read bench reports with it.
 packages=(
   build-essential cmake ninja-build ccache pkg-config
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
   libeigen3-dev libopencv-dev libopencv-contrib-dev libapriltag-dev
   libmujoco-dev libqhull-dev libyaml-cpp-dev googletest libgtest-dev libbenchmark-dev
-  cyclonedds-dev cyclonedds-tools
+  cyclonedds-dev cyclonedds-tools jq
 )
 
 missing=()

@@ -3,7 +3,7 @@
 // 5 cm tag36h11 between 0.15 and 0.7 m and up to 55 degrees of tilt, per
 // resolution and condition (clean, noisy, blurred).
 //
-// detect rows, params `detector`, `resolution`, `decimate`, `condition`:
+// detect rows, params `detector`, `resolution`, `decimate`, `sigma` (quad_sigma), `condition`:
 //   apriltag        hcosim's path: libapriltag, corners refitted to the
 //                   border's edges, IPPE pose refined by Levenberg-Marquardt;
 //   apriltag_plain  libapriltag with its defaults as most users call it:
@@ -45,17 +45,23 @@ using Detect = std::function<bool(const cv::Mat&, Corners&)>;
 struct Candidate {
   std::string name;
   double decimate;
+  double sigma;  // quad_sigma, px
   Detect detect;
   PoseOptions pose;
 };
 
 std::vector<Candidate> candidates(bool quick) {
   std::vector<Candidate> out;
-  for (const double dec : quick ? std::vector<double>{1.5} : std::vector<double>{1, 1.5, 2}) {
+  // Decimation trades corner-search resolution for speed; a blur before
+  // the quad search (quad_sigma) spares the search noise's false edges.
+  std::vector<std::pair<double, double>> settings{{1.5, 0}};
+  if (!quick) settings = {{1, 0}, {1.5, 0}, {2, 0}, {1.5, 0.8}};
+  for (const auto& [dec, sigma] : settings) {
     DetectorParams p;
     p.quad_decimate = dec;
+    p.quad_sigma = sigma;
     auto d = std::make_shared<Detector>(p);
-    out.push_back({"apriltag", dec, [d](const cv::Mat& f, Corners& c) {
+    out.push_back({"apriltag", dec, sigma, [d](const cv::Mat& f, Corners& c) {
                      for (const Detection& x : d->detect(f))
                        if (x.id == 0) return c = x.corners, true;
                      return false;
@@ -65,7 +71,7 @@ std::vector<Candidate> candidates(bool quick) {
   plain.quad_decimate = 2;  // libapriltag's default
   plain.refine_corners = false;
   auto d = std::make_shared<Detector>(plain);
-  out.push_back({"apriltag_plain", plain.quad_decimate, [d](const cv::Mat& f, Corners& c) {
+  out.push_back({"apriltag_plain", plain.quad_decimate, 0, [d](const cv::Mat& f, Corners& c) {
                    for (const Detection& x : d->detect(f))
                      if (x.id == 0) {
                        for (std::size_t k = 0; k < 4; ++k) c[k] = x.corners[k] + Eigen::Vector2d(0.5, 0.5);
@@ -76,7 +82,7 @@ std::vector<Candidate> candidates(bool quick) {
   auto dict = cv::aruco::getPredefinedDictionary(cv::aruco::DICT_APRILTAG_36h11);
   auto params = cv::aruco::DetectorParameters::create();
   params->cornerRefinementMethod = cv::aruco::CORNER_REFINE_SUBPIX;
-  out.push_back({"aruco", 0, [dict, params](const cv::Mat& f, Corners& c) {
+  out.push_back({"aruco", 0, 0, [dict, params](const cv::Mat& f, Corners& c) {
                    std::vector<std::vector<cv::Point2f>> corners;
                    std::vector<int> ids;
                    cv::aruco::detectMarkers(f, dict, corners, ids, params);
@@ -117,6 +123,7 @@ std::vector<Row> tracking_rows(const Context& ctx) {
       double aruco_ms = 0;
       for (const Candidate& c : all) {
         progress("tracking: " + c.name + (c.decimate > 0 ? " decimate " + std::to_string(c.decimate).substr(0, 3) : "") +
+                 (c.sigma > 0 ? " sigma " + std::to_string(c.sigma).substr(0, 3) : "") +
                  ", " + condition_name + " " + resolution);
         std::vector<double> ms, trans, rot, corner;
         int found = 0;
@@ -139,7 +146,7 @@ std::vector<Row> tracking_rows(const Context& ctx) {
         if (c.name == "aruco") aruco_ms = median_ms;
         group.push_back({"detect",
                          {{"detector", c.name}, {"resolution", resolution}, {"decimate", c.decimate},
-                          {"condition", condition_name}},
+                          {"sigma", c.sigma}, {"condition", condition_name}},
                          {{"ms_per_frame", median_ms},
                           {"detection_rate", double(found) / n},
                           {"trans_err_p95_pct", percentile(trans, 0.95)},

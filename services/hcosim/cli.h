@@ -32,6 +32,8 @@ int echo(const std::vector<std::string>& argv);
 int hz(const std::vector<std::string>& argv);
 int bench(const std::vector<std::string>& argv);
 int record(const std::vector<std::string>& argv);
+int track(const std::vector<std::string>& argv);
+int synth(const std::vector<std::string>& argv);
 int bench_peer(const std::vector<std::string>& argv);  // hidden: the far end of dds round trips
 
 }  // namespace hcosim::cli

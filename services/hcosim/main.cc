@@ -72,6 +72,12 @@ Commands:
         write a haptic device's HapticState as a trajectory the replay device plays
   bench SUITE|all|list [--quick] --out DIR
         run a benchmark suite and write DIR/SUITE.json
+  track --source VIDEO_OR_FOLDER --camera INTRINSICS.yaml --tag-size M --out POSES.jsonl
+        [--truth TRUTH.jsonl] [--family F] [--decimate D] [--sigma S] [--threads N]
+        detect AprilTags in a video or an image folder, one JSON line per
+        detection; with --truth, the errors against known poses
+  synth --out DIR [--frames N] [--rate HZ] [--resolution WxH] [--condition C] [--video]
+        write a synthetic marker sequence (PNG frames, camera.yaml, truth.jsonl)
 
 The domain defaults to $HCOSIM_DOMAIN, else 0. Topics: docs/topics.md.
 )";
@@ -93,6 +99,8 @@ int main(int argc, char** argv) {
     if (cmd == "hz") return hz(rest);
     if (cmd == "bench") return bench(rest);
     if (cmd == "record") return record(rest);
+    if (cmd == "track") return track(rest);
+    if (cmd == "synth") return synth(rest);
     if (cmd == "bench-peer") return bench_peer(rest);
     std::cerr << "hcosim: unknown command '" << cmd << "'\n\n" << kUsage;
     return 2;

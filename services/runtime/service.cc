@@ -165,7 +165,7 @@ int Service::run_realtime(const std::function<void(const Tick&)>& step) {
   const std::int64_t start = mono_ns();
   const std::int64_t end = options_.duration_s > 0 ? start + std::llround(options_.duration_s * 1e9) : INT64_MAX;
   std::int64_t k = 0;
-  while (!g_stop) {
+  while (!g_stop && !finished_) {
     const std::int64_t due = start + k * period_ns;
     if (due >= end) break;
     timespec ts{static_cast<time_t>(due / 1'000'000'000), static_cast<long>(due % 1'000'000'000)};

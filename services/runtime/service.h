@@ -67,6 +67,11 @@ class Service {
   // duration, or the master's last tick. Returns the process exit status.
   int run(const std::function<void(const Tick&)>& step);
 
+  // Ends a real-time run after the current step (e.g. a video that has
+  // run out). A lockstep follower cannot leave early: it runs on to the
+  // master's last tick.
+  void finish() { finished_ = true; }
+
   // For services that drive their own loop (the lockstep master): record
   // one step; publish status if a period has passed (or when stopping).
   void record_step(double jitter_us, double step_us, bool overrun);
@@ -89,6 +94,7 @@ class Service {
   std::uint64_t steps_ = 0, overruns_ = 0, outputs_skipped_ = 0;
   std::uint64_t steps_at_heartbeat_ = 0;
   std::int64_t last_heartbeat_ns_ = 0;  // 0 until the first heartbeat
+  bool finished_ = false;
 };
 
 // SIGINT and SIGTERM set a flag instead of killing the process, so loops

@@ -1,0 +1,28 @@
+// Conversions from the tracker's results and frames to the MarkerPose and
+// CameraFrame topics.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+
+#include "hcosim/idl/vision.h"
+#include "vision/tracker.h"
+
+namespace hcosim::vision {
+
+Transform to_idl(const Eigen::Isometry3d& pose);
+
+// Observation o of frame `frame` from camera `camera`, published
+// `latency_ms` after the frame was captured.
+MarkerPose marker_pose(const std::string& camera, const std::string& family, const StepStamp& stamp,
+                       std::uint64_t frame, double tag_size, const Observation& o, double latency_ms);
+
+// A CV_8UC1 (mono8) or CV_8UC3 (bgr8) image with its intrinsics. Throws
+// std::invalid_argument for another type.
+CameraFrame camera_frame(const std::string& camera, const StepStamp& stamp, std::uint64_t frame,
+                         const cv::Mat& image, const Intrinsics& k);
+
+}  // namespace hcosim::vision

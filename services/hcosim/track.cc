@@ -1,0 +1,223 @@
+// hcosim track: the marker tracker offline, on a video or an image folder,
+// one JSON line per detection; with --truth, its errors against known
+// poses. hcosim synth: a synthetic sequence with its truth, to try it on.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <stdexcept>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/videoio.hpp>
+#include <yaml-cpp/yaml.h>
+
+#include "cli.h"
+#include "config.h"
+#include "json.h"
+#include "service.h"
+#include "vision/calibration.h"
+#include "vision/source.h"
+#include "vision/tracker.h"
+
+namespace hcosim::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace hcosim::vision;
+
+// Frames without a tag are named one by one up to this many, then counted.
+constexpr int kNamedMisses = 10;
+
+// {"frame": i, "id": n, "R": [row-major, tag to camera], "t": [m], "reprojection_error_px": e}
+std::string pose_line(std::uint64_t frame, int id, const Eigen::Isometry3d& p, double error_px) {
+  Json j;
+  j.begin_object().key("frame").value(frame).key("id").value(id).key("R").begin_array();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) j.value(p.linear()(r, c));
+  j.end_array().key("t").begin_array();
+  for (int r = 0; r < 3; ++r) j.value(p.translation()(r));
+  j.end_array().key("reprojection_error_px").value(error_px).end_object();
+  return j.str();
+}
+
+// The poses of a JSON-lines file in pose_line's format, by (frame, id).
+std::map<std::pair<std::uint64_t, int>, Eigen::Isometry3d> read_poses(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw ConfigError(path + ": cannot be read");
+  std::map<std::pair<std::uint64_t, int>, Eigen::Isometry3d> out;
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    const std::string where = path + ":" + std::to_string(n);
+    try {
+      // JSON is YAML's flow style: yaml-cpp reads these lines.
+      const YAML::Node j = YAML::Load(line);
+      const YAML::Node R = j["R"], t = j["t"];
+      if (!j.IsMap() || !j["frame"] || !j["id"] || !R.IsSequence() || R.size() != 9 || !t.IsSequence() || t.size() != 3)
+        throw ConfigError(where + ": expected {\"frame\": i, \"id\": n, \"R\": [9 numbers], \"t\": [3 numbers], ...}");
+      Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+      for (int k = 0; k < 9; ++k) p.linear()(k / 3, k % 3) = config_number(where, R[k], "R");
+      for (int k = 0; k < 3; ++k) p.translation()(k) = config_number(where, t[k], "t");
+      out[{j["frame"].as<std::uint64_t>(), j["id"].as<int>()}] = p;
+    } catch (const YAML::Exception& e) {
+      throw ConfigError(where + ": not a pose line: " + e.msg);
+    }
+  }
+  return out;
+}
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return std::nan("");
+  std::sort(v.begin(), v.end());
+  return v[std::size_t(q * double(v.size() - 1) + 0.5)];
+}
+
+std::pair<int, int> parse_resolution(const std::string& s) {
+  int w = 0, h = 0;
+  char x = 0;
+  if (std::sscanf(s.c_str(), "%d%c%d", &w, &x, &h) != 3 || x != 'x' || w < 16 || h < 16 || w > 8192 || h > 8192)
+    throw std::invalid_argument("--resolution must be WIDTHxHEIGHT, e.g. 640x480, not '" + s + "'");
+  return {w, h};
+}
+
+const char* kTrackUsage =
+    "usage: hcosim track --source VIDEO_OR_FOLDER --camera INTRINSICS.yaml --tag-size METRES --out POSES.jsonl\n"
+    "                    [--family tag36h11] [--decimate 1.5] [--sigma 0] [--threads 1] [--truth TRUTH.jsonl]\n";
+
+}  // namespace
+
+int track(const std::vector<std::string>& argv) {
+  const Args a = parse(argv, {"--source", "--camera", "--tag-size", "--out", "--family", "--decimate", "--sigma",
+                              "--threads", "--truth"},
+                       {});
+  for (const char* f : {"--source", "--camera", "--tag-size", "--out"})
+    if (!a.has(f)) throw std::invalid_argument(std::string("track needs ") + f + "\n" + kTrackUsage);
+  if (!a.positional.empty()) throw std::invalid_argument("track takes no positional argument\n" + std::string(kTrackUsage));
+  TrackerParams p;
+  p.tag_size = a.number("--tag-size", 0);
+  p.detector.family = a.get("--family", p.detector.family);
+  p.detector.quad_decimate = a.number("--decimate", p.detector.quad_decimate);
+  p.detector.quad_sigma = a.number("--sigma", p.detector.quad_sigma);
+  p.detector.nthreads = int(a.number("--threads", p.detector.nthreads));
+  check(p);
+  const std::string camera_file = a.get("--camera", "");
+  Intrinsics k = read_intrinsics(camera_file);
+  const auto truth = a.has("--truth") ? read_poses(a.get("--truth", "")) : decltype(read_poses("")){};
+  std::unique_ptr<Source> source = open_path(a.get("--source", ""));
+  const std::string out_path = a.get("--out", "");
+  std::ofstream out(out_path);
+  if (!out) throw std::runtime_error(out_path + ": cannot be written");
+  std::cerr << "track: " << source->describe() << std::endl;
+
+  std::unique_ptr<Tracker> tracker;
+  std::uint64_t frames = 0, with_tag = 0, detections = 0, misses = 0, unreadable = 0, wrong_size = 0;
+  std::vector<double> trans, rot, ms;
+  std::int64_t last_progress = rt::mono_ns();
+  for (Frame f; source->next(f);) {
+    ++frames;
+    if (!f.problem.empty()) {
+      std::cerr << "track: frame " << f.index << ": " << f.problem << ", skipped" << std::endl;
+      ++unreadable;
+      continue;
+    }
+    if (!tracker) {
+      k = with_frame_size(k, f.image.cols, f.image.rows, camera_file);
+      tracker = std::make_unique<Tracker>(p, k);
+    }
+    if (f.image.cols != k.width || f.image.rows != k.height) {
+      std::cerr << "track: frame " << f.index << " is " << f.image.cols << "x" << f.image.rows << ", not the "
+                << k.width << "x" << k.height << " of " << camera_file << ", skipped" << std::endl;
+      ++wrong_size;
+      continue;
+    }
+    const std::int64_t t0 = rt::mono_ns();
+    const std::vector<Observation> seen = tracker->track(f.image);
+    ms.push_back((rt::mono_ns() - t0) * 1e-6);
+    if (seen.empty() && ++misses <= kNamedMisses)
+      std::cerr << "track: frame " << f.index << ": no " << p.detector.family << " tag found" << std::endl;
+    with_tag += !seen.empty();
+    for (const Observation& o : seen) {
+      ++detections;
+      out << pose_line(f.index, o.detection.id, o.pose.tag_in_camera, o.pose.reprojection_error_px) << '\n';
+      const auto t = truth.find({f.index, o.detection.id});
+      if (t == truth.end()) continue;
+      trans.push_back(100 * (o.pose.tag_in_camera.translation() - t->second.translation()).norm() /
+                      t->second.translation().norm());
+      rot.push_back(angle_between(o.pose.tag_in_camera.linear(), t->second.linear()) * 180 / M_PI);
+    }
+    if (rt::mono_ns() - last_progress > 2'000'000'000) {
+      last_progress = rt::mono_ns();
+      std::cerr << "track: " << frames << " frames, " << with_tag << " with a tag" << std::endl;
+    }
+  }
+  out.close();
+  if (!out) throw std::runtime_error(out_path + ": write failed");
+  if (misses > kNamedMisses) std::cerr << "track: ... and " << misses - kNamedMisses << " more frames without a tag\n";
+  std::printf("track: %llu frames, %llu with a tag, %llu detections written to %s; %llu unreadable, %llu of another "
+              "size; detection and pose median %.2f ms a frame\n",
+              (unsigned long long)frames, (unsigned long long)with_tag, (unsigned long long)detections,
+              out_path.c_str(), (unsigned long long)unreadable, (unsigned long long)wrong_size, percentile(ms, 0.5));
+  if (!truth.empty())
+    std::printf("track: against %s: %zu of %zu true poses detected; translation error p50 %.3f%% p95 %.3f%% of "
+                "distance, rotation error p50 %.3f deg p95 %.3f deg\n",
+                a.get("--truth", "").c_str(), trans.size(), truth.size(), percentile(trans, 0.5),
+                percentile(trans, 0.95), percentile(rot, 0.5), percentile(rot, 0.95));
+  if (detections == 0) {
+    std::cerr << "track: no tag in any frame: is the family (" << p.detector.family
+              << ") right, and the tag whole and in focus?" << std::endl;
+    return 1;
+  }
+  return 0;
+}
+
+int synth(const std::vector<std::string>& argv) {
+  const Args a = parse(argv, {"--out", "--frames", "--rate", "--resolution", "--condition", "--family", "--tag-id",
+                              "--tag-size"},
+                       {"--video"});
+  if (!a.has("--out"))
+    throw std::invalid_argument(
+        "usage: hcosim synth --out DIR [--frames 60] [--rate 30] [--resolution 640x480] [--condition clean|noisy|"
+        "blurred] [--family tag36h11] [--tag-id 0] [--tag-size 0.05] [--video]");
+  const auto [w, h] = parse_resolution(a.get("--resolution", "640x480"));
+  const double n = a.number("--frames", 60), rate = a.number("--rate", 30);
+  if (n < 1 || n > 1e5 || n != std::floor(n)) throw std::invalid_argument("--frames must be a whole number in 1..100000");
+  Marker m;
+  m.family = a.get("--family", m.family);
+  m.id = int(a.number("--tag-id", m.id));
+  m.tag_size = a.number("--tag-size", m.tag_size);
+  const Intrinsics k = synthetic_intrinsics(w, h);
+  SyntheticSource source(SyntheticCamera(k, m), condition(a.get("--condition", "clean")), rate, std::uint64_t(n));
+  const fs::path dir = a.get("--out", "");
+  fs::create_directories(dir / "frames");
+  write_intrinsics((dir / "camera.yaml").string(), k);
+  std::ofstream truth(dir / "truth.jsonl");
+  if (!truth) throw std::runtime_error((dir / "truth.jsonl").string() + ": cannot be written");
+  cv::VideoWriter video;
+  if (a.has("--video")) {
+    // Motion JPEG: OpenCV encodes it itself, whatever codecs the system has.
+    video.open((dir / "video.avi").string(), cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), rate, cv::Size(w, h), false);
+    if (!video.isOpened()) throw std::runtime_error((dir / "video.avi").string() + ": cannot be written");
+    video.set(cv::VIDEOWRITER_PROP_QUALITY, 95);
+  }
+  std::cerr << "synth: " << source.describe() << std::endl;
+  for (Frame f; source.next(f);) {
+    const fs::path file = dir / "frames" / cv::format("frame_%06llu.png", (unsigned long long)f.index);
+    if (!cv::imwrite(file.string(), f.image)) throw std::runtime_error(file.string() + ": cannot be written");
+    if (video.isOpened()) video.write(f.image);
+    truth << pose_line(f.index, m.id, source.truth(f.index), 0) << '\n';
+  }
+  truth.close();
+  if (!truth) throw std::runtime_error((dir / "truth.jsonl").string() + ": write failed");
+  std::printf("synth: wrote %s/frames/ (%d PNG frames)%s, camera.yaml and truth.jsonl (the true poses, in hcosim "
+              "track's format)\n",
+              dir.c_str(), int(n), video.isOpened() ? ", video.avi (MJPG)" : "");
+  std::printf("try: hcosim track --source %s/frames --camera %s/camera.yaml --tag-size %g --out poses.jsonl --truth "
+              "%s/truth.jsonl\n",
+              dir.c_str(), dir.c_str(), m.tag_size, dir.c_str());
+  return 0;
+}
+
+}  // namespace hcosim::cli

@@ -1,0 +1,167 @@
+// hcosim_tracker: the marker tracking service. Every step it takes the
+// next frame of its camera (synthetic, an image folder, a video file, or a
+// live V4L2 camera), detects the AprilTags in it, and publishes one
+// MarkerPose per tag and the CameraFrame for AR compositing. With the
+// synthetic camera it also measures its errors against the true pose.
+// Params: docs/tracking.md.
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include "service.h"
+#include "vision/calibration.h"
+#include "vision/source.h"
+#include "vision/tracker.h"
+#include "vision/vision_idl.h"
+
+using namespace hcosim;
+using namespace hcosim::rt;
+
+namespace {
+
+// Frames of another size are named one by one up to this many, then counted.
+constexpr int kNamedSkips = 5;
+
+bool on(const Params& p, const std::string& key, bool fallback) {
+  return p.text(key, fallback ? "on" : "off", {"on", "off"}) == "on";
+}
+
+vision::TrackerParams tracker_params(const Params& p) {
+  vision::TrackerParams t;
+  vision::DetectorParams& d = t.detector;
+  d.family = p.text("family", d.family, {"tag36h11", "tag25h9", "tag16h5", "tagStandard41h12"});
+  d.quad_decimate = p.number("quad_decimate", d.quad_decimate, 1, 8);
+  d.quad_sigma = p.number("quad_sigma", d.quad_sigma, -5, 5);
+  d.nthreads = int(p.number("nthreads", d.nthreads, 1, 64));
+  d.refine_edges = on(p, "refine_edges", d.refine_edges);
+  d.decode_sharpening = p.number("decode_sharpening", d.decode_sharpening, 0, 10);
+  d.max_hamming = int(p.number("max_hamming", d.max_hamming, 0, 3));
+  d.refine_corners = on(p, "refine_corners", d.refine_corners);
+  t.pose.refine = on(p, "refine_pose", t.pose.refine);
+  t.tag_size = p.number("tag_size", t.tag_size, 1e-3, 10);
+  return t;
+}
+
+int run(int argc, char** argv) {
+  Service svc(parse_options(argc, argv));
+  const Params& p = svc.params();
+  const std::string& name = svc.options().name;
+  p.allow_only({"source", "path", "device", "camera", "width", "height", "condition", "tag_id", "family", "tag_size",
+                "quad_decimate", "quad_sigma", "nthreads", "refine_edges", "decode_sharpening", "max_hamming",
+                "refine_corners", "refine_pose", "frames", "loop"});
+  const std::string kind = p.text("source", "synthetic", {"synthetic", "folder", "video", "v4l2"});
+  const vision::TrackerParams tp = tracker_params(p);
+  const bool publish_frames = on(p, "frames", true), loop = on(p, "loop", false);
+  const int width = int(p.number("width", 640, 16, 8192)), height = int(p.number("height", 480, 16, 8192));
+  const std::string camera_file = p.path("camera");
+
+  // The source, and the intrinsics its frames were taken with.
+  std::unique_ptr<vision::Source> source;
+  vision::SyntheticSource* synthetic = nullptr;
+  vision::Intrinsics k;
+  if (kind != "synthetic" && camera_file.empty())
+    p.fail("camera", "source '" + kind + "' needs camera: an intrinsics file in OpenCV's calibration format");
+  if (!camera_file.empty()) k = vision::read_intrinsics(camera_file);
+  if (kind == "synthetic") {
+    vision::Marker m;
+    m.family = tp.detector.family;
+    m.id = int(p.number("tag_id", 0, 0, 1e6));
+    m.tag_size = tp.tag_size;
+    if (camera_file.empty()) k = vision::synthetic_intrinsics(width, height);
+    k = vision::with_frame_size(k, width, height, camera_file);
+    auto s = std::make_unique<vision::SyntheticSource>(vision::SyntheticCamera(k, m),
+                                                       vision::condition(p.text("condition", "clean", {"clean", "noisy", "blurred"})),
+                                                       svc.options().rate_hz);
+    synthetic = s.get();
+    source = std::move(s);
+  } else if (kind == "v4l2") {
+    source = vision::open_v4l2(p.string("device", "/dev/video0"), width, height, svc.options().rate_hz);
+  } else {
+    const std::string path = p.path("path");
+    if (path.empty()) p.fail("path", "source '" + kind + "' needs path: the " + (kind == "video" ? "video file" : "image folder"));
+    source = kind == "video" ? vision::open_video(path) : vision::open_folder(path);
+  }
+  std::printf("%s: %s; %s tags of %.4g m\n", name.c_str(), source->describe().c_str(), tp.detector.family.c_str(),
+              tp.tag_size);
+  std::fflush(stdout);
+
+  Writer<MarkerPose> poses(svc.participant());
+  Writer<CameraFrame> frames(svc.participant());
+  std::unique_ptr<vision::Tracker> tracker;
+  Window track_ms(1 << 16), trans_pct(1 << 16), rot_deg(1 << 16);
+  std::uint64_t n_frames = 0, with_tag = 0, detections = 0, refused = 0, unreadable = 0, skipped = 0;
+  bool ended = false;
+  const int status = svc.run([&](const Tick& tick) {
+    if (ended) return;
+    vision::Frame f;
+    if (!source->next(f) && !(loop && source->rewind() && source->next(f))) {
+      std::printf("%s: the source ended after %llu frames\n", name.c_str(), (unsigned long long)n_frames);
+      std::fflush(stdout);
+      ended = true;
+      svc.finish();
+      return;
+    }
+    ++n_frames;
+    if (!f.problem.empty()) {
+      std::fprintf(stderr, "%s: frame %llu: %s, skipped\n", name.c_str(), (unsigned long long)f.index, f.problem.c_str());
+      ++unreadable;
+      return;
+    }
+    if (!tracker) {
+      k = vision::with_frame_size(k, f.image.cols, f.image.rows, camera_file);
+      tracker = std::make_unique<vision::Tracker>(tp, k);
+    }
+    if (f.image.cols != k.width || f.image.rows != k.height) {
+      if (++skipped <= kNamedSkips)
+        std::fprintf(stderr, "%s: frame %llu is %dx%d, not the calibrated %dx%d, skipped\n", name.c_str(),
+                     (unsigned long long)f.index, f.image.cols, f.image.rows, k.width, k.height);
+      return;
+    }
+    const std::int64_t t0 = mono_ns();
+    const std::vector<vision::Observation> seen = tracker->track(f.image);
+    track_ms.add((mono_ns() - t0) * 1e-6);
+    with_tag += !seen.empty();
+    const StepStamp stamp = svc.stamp(tick);
+    for (const vision::Observation& o : seen) {
+      ++detections;
+      if (synthetic && o.detection.id == synthetic->camera().marker().id) {
+        const Eigen::Isometry3d truth = synthetic->truth(f.index);
+        trans_pct.add(100 * (o.pose.tag_in_camera.translation() - truth.translation()).norm() /
+                      truth.translation().norm());
+        rot_deg.add(vision::angle_between(o.pose.tag_in_camera.linear(), truth.linear()) * 180 / M_PI);
+      }
+      MarkerPose m = vision::marker_pose(name, tp.detector.family, stamp, f.index, tp.tag_size, o,
+                                         (mono_ns() - f.capture_ns) * 1e-6);
+      // A pose the subscribers would refuse (a degenerate fit) is not sent.
+      if (validate(m)) {
+        ++refused;
+      } else if (poses.matched() == 0) {
+        svc.skip_output();
+      } else {
+        poses.write(m);
+      }
+    }
+    if (!publish_frames) return;
+    if (frames.matched() == 0) {
+      svc.skip_output();
+    } else {
+      CameraFrame c = vision::camera_frame(name, stamp, f.index, f.image, k);
+      frames.write(c);
+    }
+  });
+  std::printf("%s: %llu frames, %llu with a tag, %llu detections; detection and pose p50 %.2f ms p99 %.2f ms; "
+              "%llu unreadable, %llu of another size, %llu poses refused\n",
+              name.c_str(), (unsigned long long)n_frames, (unsigned long long)with_tag,
+              (unsigned long long)detections, track_ms.percentile(0.5), track_ms.percentile(0.99),
+              (unsigned long long)unreadable, (unsigned long long)skipped, (unsigned long long)refused);
+  if (synthetic && trans_pct.size())
+    std::printf("%s: against the synthetic truth: translation error p50 %.3f%% p95 %.3f%% of distance, rotation "
+                "error p50 %.3f deg p95 %.3f deg\n",
+                name.c_str(), trans_pct.percentile(0.5), trans_pct.percentile(0.95), rot_deg.percentile(0.5),
+                rot_deg.percentile(0.95));
+  return status;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) { return guarded_main("hcosim_tracker", [&] { return run(argc, argv); }); }
