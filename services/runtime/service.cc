@@ -1,5 +1,6 @@
 #include "service.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cmath>
@@ -36,9 +37,13 @@ namespace {
 
 constexpr std::int64_t kHeartbeatNs = 1'000'000'000;
 
+// Base steps per service step. A lockstep follower steps on whole ticks of
+// the clock; in real time the period is the rate's own and this only
+// rounds stamps, so any rate goes (a 30 fps camera under a 1 ms step).
 std::uint64_t steps_per_period(const Options& o) {
   const double ratio = 1.0 / (o.rate_hz * o.step_s);
   const double whole = std::round(ratio);
+  if (o.mode == Mode::kRealtime) return static_cast<std::uint64_t>(std::max(1.0, whole));
   if (whole < 1 || std::abs(ratio - whole) > 1e-6 * whole)
     throw std::invalid_argument("rate " + std::to_string(o.rate_hz) + " Hz is not a whole divisor of the base step rate " +
                                 std::to_string(1.0 / o.step_s) + " Hz");
@@ -172,7 +177,8 @@ int Service::run_realtime(const std::function<void(const Tick&)>& step) {
     // Sleep, never spin: on 2 cores a spinning loop starves Fast DDS's own threads.
     if (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) continue;
     const std::int64_t woke = mono_ns();
-    const Tick tick{std::uint64_t(k) * period_steps_, k * period_ns, period_ns * 1e-9};
+    const Tick tick{std::uint64_t(std::llround(double(k * period_ns) / (options_.step_s * 1e9))), k * period_ns,
+                    period_ns * 1e-9};
     step(tick);
     const std::int64_t done = mono_ns();
     // A step that ends after the next one was due is an overrun; the missed

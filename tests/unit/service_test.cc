@@ -1,4 +1,5 @@
 #include <chrono>
+#include <cmath>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -50,10 +51,36 @@ TEST(Options, RefusesMissingAndMalformedValues) {
   }
 }
 
-TEST(Service, RateMustDivideTheBaseStep) {
+TEST(Service, LockstepRateMustDivideTheBaseStep) {
   Options o = options(300, 0);
   o.step_s = 0.001;
+  o.mode = Mode::kLockstep;
   EXPECT_THROW(Service s(o), std::invalid_argument);
+}
+
+// A 30 fps camera under a 1 ms base step: in real time any rate goes, and
+// each step is stamped with the base step it falls in.
+TEST(Service, RealtimeRateNeedNotDivideTheBaseStep) {
+  Options o = options(30, 0.15);
+  o.step_s = 0.001;
+  Service svc(o);
+  std::vector<std::uint64_t> steps;
+  std::vector<std::int64_t> times;
+  svc.run([&](const Tick& t) { steps.push_back(t.step), times.push_back(t.sim_time_ns); });
+  ASSERT_GE(steps.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(steps[i], std::uint64_t(std::llround(i * 1000.0 / 30))) << i;
+    EXPECT_EQ(times[i], std::int64_t(i) * std::llround(1e9 / 30)) << i;
+  }
+}
+
+TEST(Service, FinishEndsARealtimeRunAfterTheCurrentStep) {
+  Service svc(options(200, 5));
+  int steps = 0;
+  EXPECT_EQ(svc.run([&](const Tick&) {
+    if (++steps == 3) svc.finish();
+  }), 0);
+  EXPECT_EQ(steps, 3);
 }
 
 TEST(Participant, RefusesABadDomainAndQosFile) {
