@@ -16,7 +16,9 @@ services:
     params: {role: wall, stiffness: 800}
 YAML
 start status "$BIN/hcosim" echo ServiceStatus --count 0 --timeout 8
-start force "$BIN/hcosim" echo ForceFeedback --count 200 --timeout 8
+# 400 answers span a second of the source's 1 Hz stroke: its contact half included,
+# however early echo joins (200 from the start ended just before contact).
+start force "$BIN/hcosim" echo ForceFeedback --count 400 --timeout 8
 timeout 30 "$BIN/hcosim" up "$WORK/up.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1 || fail "up exited $?"
 grep -q "duration reached" "$WORK/up.log" || fail "up did not run to its duration"
 line=$(grep "probe src:" "$WORK/out/logs/src.log") || fail "no summary from src"
