@@ -52,9 +52,23 @@ TagPose estimate_pose(const std::array<Eigen::Vector2d, 4>& corners, double tag_
   for (int i : {3, 2, 1, 0}) img.emplace_back(corners[std::size_t(i)].x(), corners[std::size_t(i)].y());
   std::vector<cv::Mat> rvecs, tvecs;
   cv::Mat errors;
-  const int n = cv::solvePnPGeneric(obj, img, camera_matrix(k), distortion(k), rvecs, tvecs, false,
+  int n = cv::solvePnPGeneric(obj, img, camera_matrix(k), distortion(k), rvecs, tvecs, false,
                                     cv::SOLVEPNP_IPPE_SQUARE, cv::noArray(), cv::noArray(), errors);
-  if (n < 1) throw std::invalid_argument("pose: IPPE found no pose for these corners");
+  // OpenCV 4.6's IPPE returns NaN for a square seen exactly head-on and
+  // centred on the principal point (a synthetic camera's first frame);
+  // such a view has one pose, which SQPnP finds.
+  for (int i = n - 1; i >= 0; --i)
+    if (!cv::checkRange(rvecs[std::size_t(i)]) || !cv::checkRange(tvecs[std::size_t(i)])) {
+      rvecs.erase(rvecs.begin() + i), tvecs.erase(tvecs.begin() + i);
+      --n;
+    }
+  if (n == 0) {
+    cv::Mat rvec, tvec;
+    if (cv::solvePnP(obj, img, camera_matrix(k), distortion(k), rvec, tvec, false, cv::SOLVEPNP_SQPNP) &&
+        cv::checkRange(rvec) && cv::checkRange(tvec))
+      rvecs = {rvec}, tvecs = {tvec}, n = 1;
+  }
+  if (n < 1) throw std::invalid_argument("pose: no pose fits these corners");
   // Each solution refined on its own: refining only the one the prior
   // chose could slide it into the other's basin.
   struct Candidate {

@@ -36,8 +36,15 @@ std::vector<Observation> Tracker::track(const cv::Mat& frame) {
   std::vector<Observation> out;
   for (const Detection& d : detector_.detect(grey)) {
     const auto prior = last_.find(d.id);
-    Observation o{d, estimate_pose(d.corners, params_.tag_size, k_, params_.pose,
-                                   prior == last_.end() ? std::nullopt : std::optional(prior->second))};
+    Observation o{d, {}};
+    try {
+      o.pose = estimate_pose(d.corners, params_.tag_size, k_, params_.pose,
+                             prior == last_.end() ? std::nullopt : std::optional(prior->second));
+    } catch (const std::invalid_argument&) {
+      // Corners no pose fits (a degenerate quad): the tag is not reported.
+      ++unposed_;
+      continue;
+    }
     last_[d.id] = o.pose.tag_in_camera;
     out.push_back(o);
   }

@@ -3,6 +3,7 @@
 // sequence of frames it is given.
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <vector>
 
@@ -34,9 +35,11 @@ class Tracker {
   Tracker(const TrackerParams& p, const Intrinsics& k);
 
   // The tags in one frame (CV_8UC1 grey, or CV_8UC3 BGR converted here),
-  // in increasing id. Throws std::invalid_argument for a frame of another
-  // type or of a size other than the intrinsics'.
+  // in increasing id; a tag whose corners no pose fits is left out and
+  // counted in unposed(). Throws std::invalid_argument for a frame of
+  // another type or of a size other than the intrinsics'.
   std::vector<Observation> track(const cv::Mat& frame);
+  std::uint64_t unposed() const { return unposed_; }
 
   const TrackerParams& params() const { return params_; }
   const Intrinsics& intrinsics() const { return k_; }
@@ -46,6 +49,7 @@ class Tracker {
   Intrinsics k_;
   Detector detector_;
   std::map<int, Eigen::Isometry3d> last_;  // each tag's latest pose: the prior of its next
+  std::uint64_t unposed_ = 0;
 };
 
 }  // namespace hcosim::vision

@@ -157,9 +157,10 @@ int track(const std::vector<std::string>& argv) {
   if (!out) throw std::runtime_error(out_path + ": write failed");
   if (misses > kNamedMisses) std::cerr << "track: ... and " << misses - kNamedMisses << " more frames without a tag\n";
   std::printf("track: %llu frames, %llu with a tag, %llu detections written to %s; %llu unreadable, %llu of another "
-              "size; detection and pose median %.2f ms a frame\n",
+              "size, %llu tags no pose fits; detection and pose median %.2f ms a frame\n",
               (unsigned long long)frames, (unsigned long long)with_tag, (unsigned long long)detections,
-              out_path.c_str(), (unsigned long long)unreadable, (unsigned long long)wrong_size, percentile(ms, 0.5));
+              out_path.c_str(), (unsigned long long)unreadable, (unsigned long long)wrong_size,
+              (unsigned long long)(tracker ? tracker->unposed() : 0), percentile(ms, 0.5));
   if (!truth.empty())
     std::printf("track: against %s: %zu of %zu true poses detected; translation error p50 %.3f%% p95 %.3f%% of "
                 "distance, rotation error p50 %.3f deg p95 %.3f deg\n",

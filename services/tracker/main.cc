@@ -88,13 +88,16 @@ int run(int argc, char** argv) {
   Writer<MarkerPose> poses(svc.participant());
   Writer<CameraFrame> frames(svc.participant());
   std::unique_ptr<vision::Tracker> tracker;
-  Window track_ms(1 << 16), trans_pct(1 << 16), rot_deg(1 << 16);
+  Window read_ms(1 << 16), track_ms(1 << 16), trans_pct(1 << 16), rot_deg(1 << 16);
   std::uint64_t n_frames = 0, with_tag = 0, detections = 0, refused = 0, unreadable = 0, skipped = 0;
   bool ended = false;
   const int status = svc.run([&](const Tick& tick) {
     if (ended) return;
     vision::Frame f;
-    if (!source->next(f) && !(loop && source->rewind() && source->next(f))) {
+    const std::int64_t r0 = mono_ns();
+    const bool got = source->next(f) || (loop && source->rewind() && source->next(f));
+    read_ms.add((mono_ns() - r0) * 1e-6);
+    if (!got) {
       std::printf("%s: the source ended after %llu frames\n", name.c_str(), (unsigned long long)n_frames);
       std::fflush(stdout);
       ended = true;
@@ -124,22 +127,23 @@ int run(int argc, char** argv) {
     const StepStamp stamp = svc.stamp(tick);
     for (const vision::Observation& o : seen) {
       ++detections;
+      MarkerPose m = vision::marker_pose(name, tp.detector.family, stamp, f.index, tp.tag_size, o,
+                                         (mono_ns() - f.capture_ns) * 1e-6);
+      // A pose the subscribers would refuse (a degenerate fit) is not sent.
+      if (validate(m)) {
+        ++refused;
+        continue;
+      }
       if (synthetic && o.detection.id == synthetic->camera().marker().id) {
         const Eigen::Isometry3d truth = synthetic->truth(f.index);
         trans_pct.add(100 * (o.pose.tag_in_camera.translation() - truth.translation()).norm() /
                       truth.translation().norm());
         rot_deg.add(vision::angle_between(o.pose.tag_in_camera.linear(), truth.linear()) * 180 / M_PI);
       }
-      MarkerPose m = vision::marker_pose(name, tp.detector.family, stamp, f.index, tp.tag_size, o,
-                                         (mono_ns() - f.capture_ns) * 1e-6);
-      // A pose the subscribers would refuse (a degenerate fit) is not sent.
-      if (validate(m)) {
-        ++refused;
-      } else if (poses.matched() == 0) {
+      if (poses.matched() == 0)
         svc.skip_output();
-      } else {
+      else
         poses.write(m);
-      }
     }
     if (!publish_frames) return;
     if (frames.matched() == 0) {
@@ -149,11 +153,13 @@ int run(int argc, char** argv) {
       frames.write(c);
     }
   });
-  std::printf("%s: %llu frames, %llu with a tag, %llu detections; detection and pose p50 %.2f ms p99 %.2f ms; "
-              "%llu unreadable, %llu of another size, %llu poses refused\n",
+  std::printf("%s: %llu frames, %llu with a tag, %llu detections; reading a frame p50 %.2f ms, detection and pose "
+              "p50 %.2f ms p99 %.2f ms; %llu unreadable, %llu of another size, %llu poses refused\n",
               name.c_str(), (unsigned long long)n_frames, (unsigned long long)with_tag,
-              (unsigned long long)detections, track_ms.percentile(0.5), track_ms.percentile(0.99),
-              (unsigned long long)unreadable, (unsigned long long)skipped, (unsigned long long)refused);
+              (unsigned long long)detections, read_ms.percentile(0.5), track_ms.percentile(0.5),
+              track_ms.percentile(0.99),
+              (unsigned long long)unreadable, (unsigned long long)skipped,
+              (unsigned long long)(refused + (tracker ? tracker->unposed() : 0)));
   if (synthetic && trans_pct.size())
     std::printf("%s: against the synthetic truth: translation error p50 %.3f%% p95 %.3f%% of distance, rotation "
                 "error p50 %.3f deg p95 %.3f deg\n",

@@ -37,6 +37,13 @@ echo "$truth" | awk '{ for (i = 1; i <= NF; i++) if ($i == "p95") { v[++n] = $(i
   END { exit !(n == 2 && v[1] < 0.5 && v[2] < 2) }' || fail "cam's poses are off the truth: $truth"
 grep -qE "^cam: [0-9]+ frames, .* 0 poses refused" "$WORK/out/logs/cam.log" || fail "no summary from cam"
 
+# The shipped example, on this test's domain.
+sed "s/^domain: 0/domain: $DOMAIN/" "$(dirname "$0")/../../deploy/tracker.yaml" >"$WORK/example.yaml"
+timeout 30 "$BIN/hcosim" up "$WORK/example.yaml" --out "$WORK/example" >"$WORK/example.log" 2>&1 ||
+  fail "deploy/tracker.yaml: up exited $?"
+grep -qE "^cam: [0-9]{2,} frames, .* 0 poses refused" "$WORK/example/logs/cam.log" ||
+  fail "deploy/tracker.yaml tracked too few frames: $(cat "$WORK/example/logs/cam.log")"
+
 # Without loop, the folder's end ends the run.
 deployment once.yaml <<'YAML'
 mode: realtime
