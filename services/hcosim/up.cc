@@ -35,9 +35,11 @@ struct Child {
   std::string name;
   std::string exe;
   std::vector<std::string> args;
+  rt::OnFailure policy = rt::OnFailure::kStopAll;
   pid_t pid = -1;
   int status = 0;  // waitpid status once reaped
   bool reaped = false;
+  int restarts = 0;
 };
 
 // build/bin/hcosim_<kind>, searched in $HCOSIM_SERVICE_PATH, then beside this program.
@@ -74,14 +76,16 @@ std::string describe(int status) {
 
 bool failed(const Child& c) { return !WIFEXITED(c.status) || WEXITSTATUS(c.status) != 0; }
 
-pid_t spawn(const Child& c, const fs::path& log) {
+// Starts c with its output in `log`, appended to for a restart so that the
+// failed run's output is kept.
+pid_t spawn(const Child& c, const fs::path& log, bool append = false) {
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
   if (pid > 0) return pid;
   // Child: die with the launcher, even if it is killed with SIGKILL.
   prctl(PR_SET_PDEATHSIG, SIGTERM);
   if (getppid() == 1) _exit(127);
-  const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  const int fd = open(log.c_str(), O_WRONLY | O_CREAT | (append ? O_APPEND : O_TRUNC), 0644);
   if (fd >= 0) {
     dup2(fd, STDOUT_FILENO);
     dup2(fd, STDERR_FILENO);
@@ -174,8 +178,10 @@ int up(const std::vector<std::string>& argv) {
                                     "--deployment", file};
   };
   std::vector<Child> children;
-  for (const auto& s : d.services)
-    children.push_back({s.name, find_service(s.kind, d.file, s.line), common(s.name, s.rate_hz)});
+  for (const auto& s : d.services) {
+    rt::check_policy(s, d.mode);  // --mode may have changed the file's mode
+    children.push_back({s.name, find_service(s.kind, d.file, s.line), common(s.name, s.rate_hz), s.on_failure});
+  }
   if (d.mode == rt::Mode::kLockstep) {
     Child clock{"clock", find_service("clock", d.file, 1), common("clock", 1.0 / d.step_s)};
     std::ostringstream dur;
@@ -199,13 +205,15 @@ int up(const std::vector<std::string>& argv) {
   std::fflush(stdout);
 
   // Watch: a child that exits ends the run (lockstep: the clock exiting 0
-  // is the normal end); so do the duration and Ctrl-C.
+  // is the normal end) unless its on_failure policy says otherwise; so do
+  // the duration and Ctrl-C.
   const std::int64_t start = rt::mono_ns();
   const std::int64_t end = d.mode == rt::Mode::kRealtime && d.duration_s > 0
                                ? start + std::int64_t(d.duration_s * 1e9)
                                : INT64_MAX;
   std::string reason;
   int code = 0;
+  bool crashed = false;  // some process died by a signal: its shared memory stays behind
   while (reason.empty()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     if (g_signal) reason = std::string("stopped by ") + (g_signal == SIGINT ? "SIGINT" : "SIGTERM");
@@ -213,8 +221,28 @@ int up(const std::vector<std::string>& argv) {
     else
       for (Child* c : reap(children)) {
         if (!reason.empty()) break;
-        if (failed(*c)) {
-          reason = "service '" + c->name + "' ended (" + describe(c->status) + ")";
+        if (failed(*c) && c->policy == rt::OnFailure::kRestart && c->restarts < rt::kMaxRestarts) {
+          ++c->restarts;
+          crashed = crashed || WIFSIGNALED(c->status);
+          std::printf("hcosim up: service '%s' ended (%s); restarting it (%d of %d)\n", c->name.c_str(),
+                      describe(c->status).c_str(), c->restarts, rt::kMaxRestarts);
+          std::fflush(stdout);
+          const fs::path log = logs / (c->name + ".log");
+          if (FILE* f = std::fopen(log.c_str(), "a")) {
+            std::fprintf(f, "--- hcosim up: ended (%s), restart %d ---\n", describe(c->status).c_str(), c->restarts);
+            std::fclose(f);
+          }
+          c->pid = spawn(*c, log, true);
+          c->reaped = false;
+        } else if (failed(*c) && c->policy == rt::OnFailure::kIgnore) {
+          std::printf("hcosim up: service '%s' ended (%s); on_failure: ignore, the others run on\n", c->name.c_str(),
+                      describe(c->status).c_str());
+          std::fflush(stdout);
+          code = 1;
+          if (all_reaped(children)) reason = "every service ended";
+        } else if (failed(*c)) {
+          reason = "service '" + c->name + "' ended (" + describe(c->status) + ")" +
+                   (c->restarts ? " after " + std::to_string(c->restarts) + " restarts" : "");
           code = 1;
         } else if (d.mode == rt::Mode::kRealtime) {
           reason = "service '" + c->name + "' finished";
@@ -230,8 +258,7 @@ int up(const std::vector<std::string>& argv) {
         // A lockstep follower that exits 0 has seen the last tick; the clock ends the run.
       }
   }
-  const bool killed = stop_all(children);
-  bool crashed = killed;
+  crashed = stop_all(children) || crashed;
   for (const auto& c : children) {
     // SIGTERM from us is a clean stop; anything else non-zero is a failure.
     const bool ours = WIFSIGNALED(c.status) && WTERMSIG(c.status) == SIGTERM;
@@ -244,7 +271,8 @@ int up(const std::vector<std::string>& argv) {
 
   std::printf("hcosim up: %s after %.1f s\n", reason.c_str(), (rt::mono_ns() - start) * 1e-9);
   for (const auto& c : children)
-    std::printf("  %-16s %-32s log %s\n", c.name.c_str(), describe(c.status).c_str(),
+    std::printf("  %-16s %-32s log %s\n", c.name.c_str(),
+                (describe(c.status) + (c.restarts ? ", " + std::to_string(c.restarts) + " restarts" : "")).c_str(),
                 (logs / (c.name + ".log")).c_str());
   std::printf("outputs: %s\n", fs::absolute(out).c_str());
   return code;

@@ -14,9 +14,10 @@ namespace {
 
 ServiceSpec parse_service(const std::string& file, const YAML::Node& node) {
   if (!node.IsMap()) throw config_error(file, node, "each service must be a map with name, kind and rate");
-  check_keys(file, node, {"name", "kind", "rate", "params"});
+  check_keys(file, node, {"name", "kind", "rate", "params", "on_failure"});
   ServiceSpec s;
   s.line = node.Mark().line + 1;
+  s.where = file + ":" + std::to_string(s.line) + ":" + std::to_string(node.Mark().column + 1);
   for (const char* key : {"name", "kind", "rate"})
     if (!node[key]) throw config_error(file, node, std::string("service is missing required key '") + key + "'");
   s.name = config_text(file, node["name"], "name");
@@ -29,6 +30,14 @@ ServiceSpec parse_service(const std::string& file, const YAML::Node& node) {
   s.rate_hz = config_number(file, node["rate"], "rate");
   if (s.rate_hz <= 0 || s.rate_hz > 1e5)
     throw config_error(file, node["rate"], "'rate' must be in (0, 100000] Hz");
+  if (const YAML::Node n = node["on_failure"]) {
+    s.where = file + ":" + std::to_string(n.Mark().line + 1) + ":" + std::to_string(n.Mark().column + 1);
+    const std::string v = config_text(file, n, "on_failure");
+    if (v == "stop_all") s.on_failure = OnFailure::kStopAll;
+    else if (v == "restart") s.on_failure = OnFailure::kRestart;
+    else if (v == "ignore") s.on_failure = OnFailure::kIgnore;
+    else throw config_error(file, n, "'on_failure' must be stop_all, restart or ignore, not '" + v + "'");
+  }
   s.params = node["params"] ? node["params"] : YAML::Node(YAML::NodeType::Map);
   if (!s.params.IsMap()) throw config_error(file, node["params"], "'params' must be a map");
   return s;
@@ -37,6 +46,16 @@ ServiceSpec parse_service(const std::string& file, const YAML::Node& node) {
 }  // namespace
 
 const char* to_string(Mode m) { return m == Mode::kLockstep ? "lockstep" : "realtime"; }
+
+const char* to_string(OnFailure f) {
+  return f == OnFailure::kRestart ? "restart" : f == OnFailure::kIgnore ? "ignore" : "stop_all";
+}
+
+void check_policy(const ServiceSpec& s, Mode mode) {
+  if (mode == Mode::kLockstep && s.on_failure != OnFailure::kStopAll)
+    throw ConfigError(s.where + ": on_failure: " + to_string(s.on_failure) + " needs mode realtime (in lockstep the "
+                      "clock waits on every follower at every step: one cannot be missing or rejoin)");
+}
 
 Mode parse_mode(const std::string& s) {
   if (s == "realtime") return Mode::kRealtime;
@@ -81,6 +100,7 @@ Deployment load_deployment(const std::string& path) {
         throw config_error(path, s["name"], "the name 'clock' is reserved for the lockstep master");
       if (!names.insert(spec.name).second)
         throw config_error(path, s["name"], "service name '" + spec.name + "' is used twice");
+      check_policy(spec, d.mode);
       d.services.push_back(std::move(spec));
     }
   }

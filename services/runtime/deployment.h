@@ -22,14 +22,30 @@ enum class Mode { kRealtime, kLockstep };
 const char* to_string(Mode m);
 Mode parse_mode(const std::string& s);  // throws std::invalid_argument
 
+// What hcosim up does when a service fails (exits non-zero or is killed).
+enum class OnFailure {
+  kStopAll,  // stop every service and end the run, exit status 1
+  kRestart,  // start it again (real time only), up to kMaxRestarts times
+  kIgnore,   // let the others run on (real time only); the exit status is still 1
+};
+constexpr int kMaxRestarts = 3;
+const char* to_string(OnFailure f);
+
 // One service entry of the deployment.
 struct ServiceSpec {
   std::string name;    // unique, [a-z0-9_], at most 31 characters
   std::string kind;    // executable build/bin/hcosim_<kind>
   double rate_hz = 0;  // step rate, Hz, > 0
   YAML::Node params;   // kind-specific; checked by the service itself
+  OnFailure on_failure = OnFailure::kStopAll;
+  std::string where;   // "FILE:LINE:COL" of its on_failure (else of the entry), for check_policy
   int line = 0;        // 1-based line of the entry in the file
 };
+
+// Throws ConfigError at the service's entry if its on_failure policy cannot
+// hold in `mode`: a lockstep run waits on every follower at every step, so
+// a follower can neither be missing nor rejoin.
+void check_policy(const ServiceSpec& s, Mode mode);
 
 struct Deployment {
   std::string file;

@@ -45,8 +45,14 @@ wait "${PIDS[1]}"
 grep '"service":"omni"' "$WORK/status.log" | grep -q '"samples_rejected":[1-9]' || fail "omni did not count NaN forces"
 grep -q 'ForceFeedback: force.y is' "$WORK/status.log" || fail "rejection reason missing"
 grep -q 'null' "$WORK/state.log" && fail "a non-finite value reached HapticState"
+# An overrun tick is skipped, so a loaded machine publishes fewer than the
+# 4000 states of 4 s (about 3000 in a parallel ctest run, of which 2766
+# were recorded, failing a fixed bound of 3000): the recording must hold
+# nine in ten of those the device published.
 rows=$(($(wc -l <"$WORK/omni.csv") - 1))
-[ "$rows" -gt 3000 ] || fail "recorded only $rows samples"
+published=$(grep -oE '"seq":[0-9]+' "$WORK/state.log" | sed 's/"seq"://' | sort -n | tail -1)
+[ "${published:-0}" -gt 1000 ] || fail "the device published only ${published:-0} states"
+[ "$rows" -ge $((published * 9 / 10)) ] || fail "recorded only $rows of about $published samples"
 # The replay device plays the recording: its deepest point is the recording's.
 deployment replay.yaml <<'YAML'
 mode: realtime

@@ -76,7 +76,11 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"bad_name", "services:\n  - {name: Bad-Name, kind: b, rate: 5}\n", ":2:12: ", "must be 1 to 31"},
         BadCase{"duplicate", "services:\n  - {name: a, kind: b, rate: 5}\n  - {name: a, kind: b, rate: 5}\n",
                 ":3:12: ", "used twice"},
-        BadCase{"reserved", "services:\n  - {name: clock, kind: b, rate: 5}\n", ":2:12: ", "reserved"}),
+        BadCase{"reserved", "services:\n  - {name: clock, kind: b, rate: 5}\n", ":2:12: ", "reserved"},
+        BadCase{"on_failure", "services:\n  - {name: a, kind: b, rate: 5, on_failure: retry}\n", ":2:45: ",
+                "stop_all, restart or ignore"},
+        BadCase{"restart_lockstep", "mode: lockstep\nservices:\n  - {name: a, kind: b, rate: 5, on_failure: restart}\n",
+                ":3:45: ", "needs mode realtime"}),
     [](const auto& info) { return std::string(info.param.name); });
 
 TEST(Deployment, MissingFileIsNamed) {
