@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -77,8 +78,15 @@ std::string describe(int status) {
 bool failed(const Child& c) { return !WIFEXITED(c.status) || WEXITSTATUS(c.status) != 0; }
 
 // Starts c with its output in `log`, appended to for a restart so that the
-// failed run's output is kept.
+// failed run's output is kept. A restart forks while DDS threads run, so
+// the child calls only async-signal-safe functions before exec: everything
+// it needs is built before the fork.
 pid_t spawn(const Child& c, const fs::path& log, bool append = false) {
+  std::vector<char*> argv;
+  argv.push_back(const_cast<char*>(c.exe.c_str()));
+  for (const auto& a : c.args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  const std::string failed = "hcosim up: cannot exec " + c.exe + "\n";
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
   if (pid > 0) return pid;
@@ -91,14 +99,10 @@ pid_t spawn(const Child& c, const fs::path& log, bool append = false) {
     dup2(fd, STDERR_FILENO);
     close(fd);
   }
-  std::vector<char*> argv;
-  argv.push_back(const_cast<char*>(c.exe.c_str()));
-  for (const auto& a : c.args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
   signal(SIGINT, SIG_DFL);
   signal(SIGTERM, SIG_DFL);
   execv(c.exe.c_str(), argv.data());
-  std::fprintf(stderr, "exec %s: %s\n", c.exe.c_str(), std::strerror(errno));
+  if (write(STDERR_FILENO, failed.data(), failed.size()) < 0) _exit(127);
   _exit(127);
 }
 
@@ -143,6 +147,60 @@ bool stop_all(std::vector<Child>& children) {
   }
   return killed;
 }
+
+// The run's progress from every service's ServiceStatus, as one line:
+// simulated time, real-time factor, and each service's achieved rate and
+// overruns. On a terminal the line is rewritten in place; in a log, a new
+// line every kLogProgressS.
+class Progress {
+ public:
+  explicit Progress(int domain)
+      : participant_(domain, "hcosim_up"), status_(participant_, [](const ServiceStatus& s) { return validate(s); }),
+        tty_(isatty(STDOUT_FILENO)) {}
+
+  void update() {
+    status_.take([&](const ServiceStatus& s) {
+      ServiceStatus& last = latest_[s.service().to_string()];
+      // The pace from two reports of one service, by their own stamps.
+      const double wall = (s.stamp().wall_time_ns() - last.stamp().wall_time_ns()) * 1e-9;
+      if (last.steps() > 0 && wall > 0 && s.stamp().sim_time_ns() >= sim_ns_) {
+        factor_ = (s.stamp().sim_time_ns() - last.stamp().sim_time_ns()) * 1e-9 / wall;
+        sim_ns_ = s.stamp().sim_time_ns();
+      }
+      last = s;
+    });
+    const std::int64_t now = rt::mono_ns();
+    if (now - printed_ns_ < (tty_ ? 500'000'000 : std::int64_t(kLogProgressS * 1e9)) || sim_ns_ == 0) return;
+    printed_ns_ = now;
+    std::string line = text("sim %.1f s, real-time factor %.2f", sim_ns_ * 1e-9, factor_);
+    for (const auto& [name, s] : latest_)
+      line += text(" | %s %.0f Hz, %llu overruns", name.c_str(), s.rate_achieved_hz(),
+                        static_cast<unsigned long long>(s.overruns()));
+    std::printf(tty_ ? "\r%s\033[K" : "%s\n", line.c_str());
+    std::fflush(stdout);
+    shown_ = true;
+  }
+  // Ends the in-place line before other output.
+  void finish() {
+    if (tty_ && shown_) std::printf("\n");
+    shown_ = false;
+  }
+
+ private:
+  static constexpr double kLogProgressS = 5;
+  template <class... A>
+  static std::string text(const char* f, A... a) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, f, a...);
+    return buf;
+  }
+  rt::Participant participant_;
+  rt::Reader<ServiceStatus> status_;
+  std::map<std::string, ServiceStatus> latest_;
+  std::int64_t sim_ns_ = 0, printed_ns_ = 0;  // the furthest service's simulated time
+  double factor_ = 0;                          // simulated over wall time between its last two reports
+  bool tty_, shown_ = false;
+};
 
 // A process that died without closing its participant leaves shared-memory
 // segments behind; Fast DDS's tool removes the ones nobody uses.
@@ -214,8 +272,10 @@ int up(const std::vector<std::string>& argv) {
   std::string reason;
   int code = 0;
   bool crashed = false;  // some process died by a signal: its shared memory stays behind
+  Progress progress(d.domain);
   while (reason.empty()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    progress.update();
     if (g_signal) reason = std::string("stopped by ") + (g_signal == SIGINT ? "SIGINT" : "SIGTERM");
     else if (rt::mono_ns() >= end) reason = "duration reached";
     else
@@ -224,6 +284,7 @@ int up(const std::vector<std::string>& argv) {
         if (failed(*c) && c->policy == rt::OnFailure::kRestart && c->restarts < rt::kMaxRestarts) {
           ++c->restarts;
           crashed = crashed || WIFSIGNALED(c->status);
+          progress.finish();
           std::printf("hcosim up: service '%s' ended (%s); restarting it (%d of %d)\n", c->name.c_str(),
                       describe(c->status).c_str(), c->restarts, rt::kMaxRestarts);
           std::fflush(stdout);
@@ -235,6 +296,7 @@ int up(const std::vector<std::string>& argv) {
           c->pid = spawn(*c, log, true);
           c->reaped = false;
         } else if (failed(*c) && c->policy == rt::OnFailure::kIgnore) {
+          progress.finish();
           std::printf("hcosim up: service '%s' ended (%s); on_failure: ignore, the others run on\n", c->name.c_str(),
                       describe(c->status).c_str());
           std::fflush(stdout);
@@ -258,6 +320,7 @@ int up(const std::vector<std::string>& argv) {
         // A lockstep follower that exits 0 has seen the last tick; the clock ends the run.
       }
   }
+  progress.finish();
   crashed = stop_all(children) || crashed;
   for (const auto& c : children) {
     // SIGTERM from us is a clean stop; anything else non-zero is a failure.

@@ -1,6 +1,6 @@
 # Two service processes started by hcosim up exchange HapticState and
 # ForceFeedback over Fast DDS; a third sends NaN samples that are refused
-# and counted in ServiceStatus, and never answered.
+# and counted in ServiceStatus, and never answered. up prints its progress.
 source "$(dirname "$0")/lib.sh"
 deployment up.yaml <<'YAML'
 mode: realtime
@@ -21,6 +21,9 @@ start status "$BIN/hcosim" echo ServiceStatus --count 0 --timeout 8
 start force "$BIN/hcosim" echo ForceFeedback --count 400 --timeout 8
 timeout 30 "$BIN/hcosim" up "$WORK/up.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1 || fail "up exited $?"
 grep -q "duration reached" "$WORK/up.log" || fail "up did not run to its duration"
+# The progress line: simulated time, pace, and every service's rate and overruns.
+grep -qE "^sim [0-9.]+ s, real-time factor (0\.9|1\.0)[0-9] \| src [0-9]+ Hz, [0-9]+ overruns \| wall [0-9]+ Hz, [0-9]+ overruns$" \
+  "$WORK/up.log" || fail "no progress line with both services: $(cat "$WORK/up.log")"
 line=$(grep "probe src:" "$WORK/out/logs/src.log") || fail "no summary from src"
 sent=$(echo "$line" | sed -nE 's/.*sent ([0-9]+).*/\1/p')
 answers=$(echo "$line" | sed -nE 's/.*answers ([0-9]+).*/\1/p')
