@@ -59,17 +59,22 @@ namespace {
 const char* kUsage = R"(usage: hcosim COMMAND [ARGS]
 
 Commands:
-  up FILE [--duration S] [--mode realtime|lockstep] [--out DIR]
+  up FILE [--duration S] [--mode realtime|lockstep] [--out DIR] [--record REC]
         start the services of a deployment file, each in its own process,
-        and stop them all at the end, on Ctrl-C, or when one fails
+        and stop them all at the end, on Ctrl-C, or when one fails; with
+        --record, record every topic of the run
   topics [--domain D] [--wait S]
         list the topics and types seen on a domain
   echo TOPIC [--count N] [--timeout S] [--domain D]
         print samples of one of hcosim's topics as JSON lines
   hz TOPIC [--duration S] [--domain D]
         measure the rate at which a topic's samples arrive
+  record REC [--topics T1,T2] [--duration S] [--domain D]
+        record topics (all by default) into a recording (docs/recording.md)
   record --out FILE.csv [--device NAME] [--duration S] [--domain D]
         write a haptic device's HapticState as a trajectory the replay device plays
+  export REC --topic TOPIC [--format jsonl|csv] [--wall]
+        print one topic of a recording, one sample a line, in step order
   bench SUITE|all|list [--quick] --out DIR
         run a benchmark suite and write DIR/SUITE.json
   track --source VIDEO_OR_FOLDER --camera INTRINSICS.yaml --tag-size M --out POSES.jsonl
@@ -101,6 +106,7 @@ int main(int argc, char** argv) {
     if (cmd == "record") return record(rest);
     if (cmd == "track") return track(rest);
     if (cmd == "synth") return synth(rest);
+    if (cmd == "export") return export_recording(rest);
     if (cmd == "bench-peer") return bench_peer(rest);
     std::cerr << "hcosim: unknown command '" << cmd << "'\n\n" << kUsage;
     return 2;

@@ -1,19 +1,52 @@
-// hcosim record: a haptic device's HapticState as a CSV trajectory that
-// the replay backend plays back (adapters/device/replay.h).
+// hcosim record: topics into a recording (docs/recording.md), or a haptic
+// device's HapticState as a CSV trajectory that the replay backend plays
+// back (adapters/device/replay.h).
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <stdexcept>
+#include <thread>
 
 #include "cli.h"
+#include "recording.h"
 #include "service.h"
 
 namespace hcosim::cli {
 
+namespace {
+
+// hcosim record FILE: every sample of the chosen topics (all by default)
+// into a recording (docs/recording.md).
+int record_topics(const Args& a) {
+  if (a.positional.size() != 1 || a.has("--out") || a.has("--device"))
+    throw std::invalid_argument("usage: hcosim record FILE [--topics T1,T2] [--duration S] [--domain D]");
+  std::vector<std::string> topics;
+  std::stringstream list(a.get("--topics", ""));
+  for (std::string t; std::getline(list, t, ',');)
+    if (!t.empty()) topics.push_back(t);
+  const double duration = a.number("--duration", 0);
+  if (duration < 0) throw std::invalid_argument("--duration must not be negative");
+  rt::install_stop_handlers();
+  rt::Participant p(domain_of(a), "hcosim_record");
+  rt::Recorder recorder(p, a.positional[0], topics);
+  const std::int64_t end = duration > 0 ? rt::mono_ns() + std::int64_t(duration * 1e9) : INT64_MAX;
+  while (!rt::stop_requested() && rt::mono_ns() < end) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    recorder.poll();
+  }
+  recorder.close();
+  std::cerr << "hcosim record: " << recorder.samples() << " samples to " << a.positional[0] << "\n";
+  return 0;
+}
+
+}  // namespace
+
 int record(const std::vector<std::string>& argv) {
-  const Args a = parse(argv, {"--out", "--device", "--duration", "--domain"}, {});
+  const Args a = parse(argv, {"--out", "--device", "--duration", "--domain", "--topics"}, {});
+  if (!a.positional.empty()) return record_topics(a);
   const std::string out = a.get("--out", "");
-  if (out.empty()) throw std::invalid_argument("record needs --out FILE.csv");
+  if (out.empty()) throw std::invalid_argument("record needs FILE (a recording) or --out FILE.csv (a haptic trajectory)");
   const std::string device = a.get("--device", "");
   const double duration = a.number("--duration", 0);
   if (duration < 0) throw std::invalid_argument("--duration must not be negative");

@@ -4,6 +4,7 @@
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/stat.h>
+#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -20,6 +21,7 @@
 #include <thread>
 
 #include "cli.h"
+#include "recording.h"
 #include "service.h"
 
 namespace fs = std::filesystem;
@@ -99,6 +101,9 @@ pid_t spawn(const Child& c, const fs::path& log, bool append = false) {
     dup2(fd, STDERR_FILENO);
     close(fd);
   }
+  // up's own DDS sockets and segments must not live on in the service:
+  // a copy of a socket would take datagrams meant for up.
+  syscall(SYS_close_range, 3u, ~0u, 0u);
   signal(SIGINT, SIG_DFL);
   signal(SIGTERM, SIG_DFL);
   execv(c.exe.c_str(), argv.data());
@@ -154,9 +159,8 @@ bool stop_all(std::vector<Child>& children) {
 // line every kLogProgressS.
 class Progress {
  public:
-  explicit Progress(int domain)
-      : participant_(domain, "hcosim_up"), status_(participant_, [](const ServiceStatus& s) { return validate(s); }),
-        tty_(isatty(STDOUT_FILENO)) {}
+  explicit Progress(rt::Participant& p)
+      : status_(p, [](const ServiceStatus& s) { return validate(s); }), tty_(isatty(STDOUT_FILENO)) {}
 
   void update() {
     status_.take([&](const ServiceStatus& s) {
@@ -194,7 +198,6 @@ class Progress {
     std::snprintf(buf, sizeof buf, f, a...);
     return buf;
   }
-  rt::Participant participant_;
   rt::Reader<ServiceStatus> status_;
   std::map<std::string, ServiceStatus> latest_;
   std::int64_t sim_ns_ = 0, printed_ns_ = 0;  // the furthest service's simulated time
@@ -212,7 +215,8 @@ void clean_shared_memory() {
 }  // namespace
 
 int up(const std::vector<std::string>& argv) {
-  const Args a = parse(argv, {"--duration", "--mode", "--out"}, {});
+  const Args a = parse(argv, {"--duration", "--mode", "--out", "--record"}, {});
+  const std::string record = a.get("--record", "");
   if (a.positional.size() != 1) throw std::invalid_argument("up needs exactly one deployment FILE");
   rt::Deployment d = rt::load_deployment(a.positional[0]);
   if (a.has("--mode")) d.mode = rt::parse_mode(a.get("--mode", ""));
@@ -256,6 +260,12 @@ int up(const std::vector<std::string>& argv) {
 
   std::printf("hcosim up: %s, domain %d, %s, %zu service(s)%s\n", d.file.c_str(), d.domain, rt::to_string(d.mode),
               children.size(), d.duration_s > 0 ? "" : ", until Ctrl-C");
+  // up's participant exists before the services, so that the recorder's
+  // readers are there when their writers appear.
+  rt::Participant participant(d.domain, "hcosim_up");
+  Progress progress(participant);
+  std::unique_ptr<rt::Recorder> recorder;
+  if (!record.empty()) recorder = std::make_unique<rt::Recorder>(participant, record, std::vector<std::string>{});
   for (auto& c : children) {
     c.pid = spawn(c, logs / (c.name + ".log"));
     std::printf("  started %-16s pid %-7d %s\n", c.name.c_str(), int(c.pid), c.exe.c_str());
@@ -272,10 +282,10 @@ int up(const std::vector<std::string>& argv) {
   std::string reason;
   int code = 0;
   bool crashed = false;  // some process died by a signal: its shared memory stays behind
-  Progress progress(d.domain);
   while (reason.empty()) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    std::this_thread::sleep_for(std::chrono::milliseconds(recorder ? 2 : 20));
     progress.update();
+    if (recorder) recorder->poll();
     if (g_signal) reason = std::string("stopped by ") + (g_signal == SIGINT ? "SIGINT" : "SIGTERM");
     else if (rt::mono_ns() >= end) reason = "duration reached";
     else
@@ -322,6 +332,11 @@ int up(const std::vector<std::string>& argv) {
   }
   progress.finish();
   crashed = stop_all(children) || crashed;
+  if (recorder) {
+    recorder->close();
+    std::printf("hcosim up: recorded %llu samples to %s\n", static_cast<unsigned long long>(recorder->samples()),
+                record.c_str());
+  }
   for (const auto& c : children) {
     // SIGTERM from us is a clean stop; anything else non-zero is a failure.
     const bool ours = WIFSIGNALED(c.status) && WTERMSIG(c.status) == SIGTERM;

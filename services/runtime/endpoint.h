@@ -72,10 +72,23 @@ class Reader {
  public:
   using Validator = std::function<std::optional<std::string>(const T&)>;
 
+  // `depth` > 0 keeps that many samples per instance instead of the
+  // profile's history: a recorder must not lose a sample it polls late.
   Reader(Participant& p, Validator validate = nullptr, Rejections* rejections = nullptr,
-         const std::string& profile = TopicOf<T>::qos)
+         const std::string& profile = TopicOf<T>::qos, int depth = 0)
       : p_(p), validate_(std::move(validate)), rejections_(rejections) {
-    reader_ = p.subscriber()->create_datareader_with_profile(p.topic<T>(), profile);
+    if (depth > 0) {
+      eprosima::fastdds::dds::DataReaderQos qos;
+      p.subscriber()->get_datareader_qos_from_profile(profile, qos);
+      qos.history().kind = eprosima::fastdds::dds::KEEP_LAST_HISTORY_QOS;
+      qos.history().depth = depth;
+      qos.resource_limits().max_instances = 64;
+      qos.resource_limits().max_samples_per_instance = depth;
+      qos.resource_limits().max_samples = 64 * depth;
+      reader_ = p.subscriber()->create_datareader(p.topic<T>(), qos);
+    } else {
+      reader_ = p.subscriber()->create_datareader_with_profile(p.topic<T>(), profile);
+    }
     if (!reader_)
       throw std::runtime_error(std::string("cannot create a reader for ") + TopicOf<T>::name + " with QoS profile '" +
                                profile + "'");

@@ -1,0 +1,123 @@
+// Recordings: samples of the topic contract as they were on the wire (CDR),
+// each with its topic, step, simulated time and receive time, in one file.
+// The format is in docs/recording.md.
+#pragma once
+
+#include <cstdint>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "endpoint.h"
+#include "participant.h"
+#include "topics.h"
+
+namespace hcosim::rt {
+
+struct Record {
+  std::string topic;
+  std::uint64_t step = 0;          // StepStamp.step (ClockTick, StepDone: their step; topology: 0)
+  std::int64_t sim_time_ns = 0;    // StepStamp.sim_time_ns (0 where the type has none)
+  std::int64_t receive_ns = 0;     // CLOCK_REALTIME when the recorder took it, ns
+  std::vector<std::uint8_t> cdr;   // the sample, serialized as on the wire (encapsulation header first)
+};
+
+// Appends records to a new file. Throws std::runtime_error when the file
+// cannot be written.
+class RecordingWriter {
+ public:
+  explicit RecordingWriter(const std::string& path);
+  void write(const Record& r);
+  void close();  // throws if anything failed to reach the disk
+  std::uint64_t count() const { return count_; }
+
+ private:
+  std::string path_;
+  std::ofstream out_;
+  std::uint64_t count_ = 0;
+};
+
+// Reads records in file order. Throws std::runtime_error naming the file
+// and byte offset for a file that is not a recording or is cut short.
+class RecordingReader {
+ public:
+  explicit RecordingReader(const std::string& path);
+  bool next(Record& r);  // false at the end
+
+ private:
+  std::string path_;
+  std::ifstream in_;
+  std::uint64_t offset_ = 0;
+};
+
+// A sample of T to and from its CDR bytes.
+template <class T>
+std::vector<std::uint8_t> to_cdr(const T& sample) {
+  typename TopicOf<T>::PubSub type;
+  eprosima::fastrtps::rtps::SerializedPayload_t payload(
+      type.getSerializedSizeProvider(const_cast<T*>(&sample))());
+  if (!type.serialize(const_cast<T*>(&sample), &payload))
+    throw std::runtime_error(std::string("cannot serialize a ") + TopicOf<T>::name);
+  return {payload.data, payload.data + payload.length};
+}
+
+template <class T>
+T from_cdr(const std::vector<std::uint8_t>& bytes) {
+  typename TopicOf<T>::PubSub type;
+  eprosima::fastrtps::rtps::SerializedPayload_t payload(std::uint32_t(bytes.size()));
+  std::copy(bytes.begin(), bytes.end(), payload.data);
+  payload.length = std::uint32_t(bytes.size());
+  T sample;
+  if (!type.deserialize(&payload, &sample))
+    throw std::runtime_error(std::string("a recorded ") + TopicOf<T>::name + " does not deserialize");
+  return sample;
+}
+
+namespace detail {
+template <class T, class = void>
+struct HasStamp : std::false_type {};
+template <class T>
+struct HasStamp<T, std::void_t<decltype(std::declval<const T&>().stamp())>> : std::true_type {};
+template <class T, class = void>
+struct HasStep : std::false_type {};
+template <class T>
+struct HasStep<T, std::void_t<decltype(std::declval<const T&>().step())>> : std::true_type {};
+}  // namespace detail
+
+// The record of a sample of T received at `receive_ns`.
+template <class T>
+Record make_record(const T& s, std::int64_t receive_ns) {
+  Record r;
+  r.topic = TopicOf<T>::name;
+  if constexpr (detail::HasStamp<T>::value) {
+    r.step = s.stamp().step();
+    r.sim_time_ns = s.stamp().sim_time_ns();
+  } else if constexpr (detail::HasStep<T>::value) {
+    r.step = s.step();
+  }
+  r.receive_ns = receive_ns;
+  r.cdr = to_cdr(s);
+  return r;
+}
+
+// Subscribes to topics of the contract and writes every sample it takes.
+class Recorder {
+ public:
+  // `topics` empty: every topic. Throws std::invalid_argument naming an
+  // unknown topic, std::runtime_error when the file cannot be written.
+  Recorder(Participant& p, const std::string& path, const std::vector<std::string>& topics);
+  // Takes and writes what has arrived; call every few milliseconds.
+  void poll();
+  // Polls a last time and closes the file.
+  void close();
+  std::uint64_t samples() const { return writer_.count(); }
+
+ private:
+  RecordingWriter writer_;
+  std::vector<std::function<void()>> pollers_;  // one per topic, each owning its reader
+};
+
+}  // namespace hcosim::rt

@@ -1,0 +1,64 @@
+# Recordings: hcosim up --record keeps every sample of a lockstep run of the
+# default deployment, and hcosim export prints one topic of it in step
+# order, as JSON lines without wall-clock fields or as CSV; hcosim record
+# FILE --topics records chosen topics from a running deployment. Unknown
+# topics, files that are not recordings and cut-short recordings are named.
+source "$(dirname "$0")/lib.sh"
+ROOT=$(cd "$(dirname "$0")/../.." && pwd)
+cp -r "$ROOT/deploy/scripts" "$WORK/"
+sed -E "s/^domain: .*/domain: $DOMAIN/" "$ROOT/deploy/default.yaml" >"$WORK/default.yaml"
+timeout 60 "$BIN/hcosim" up "$WORK/default.yaml" --duration 0.5 --record "$WORK/run.rec" --out "$WORK/out" \
+  >"$WORK/up.log" 2>&1 || fail "up exited $?"
+grep -qE "recorded [0-9]+ samples to $WORK/run.rec" "$WORK/up.log" || fail "up did not say what it recorded"
+
+"$BIN/hcosim" export "$WORK/run.rec" --topic HapticState >"$WORK/state.jsonl" 2>"$WORK/export.log" ||
+  fail "export exited $?: $(cat "$WORK/export.log")"
+# Every one of the 500 steps' states, in step order, without wall time.
+jq -e -s 'length == 500 and ([.[].stamp.step] == [range(500)]) and all(.[]; .device == "omni" and
+  (.stamp | has("wall_time_ns") | not))' "$WORK/state.jsonl" >/dev/null ||
+  fail "HapticState export is not the 500 steps in order: $(head -c 300 "$WORK/state.jsonl")"
+"$BIN/hcosim" export "$WORK/run.rec" --topic HapticState --wall | head -1 | grep -q '"wall_time_ns":' ||
+  fail "--wall does not keep wall time"
+n=$("$BIN/hcosim" export "$WORK/run.rec" --topic DeformedMesh 2>/dev/null | jq -s 'map(.positions | length) | unique')
+[ "$n" = "$(printf '[\n  16206\n]')" ] || fail "DeformedMesh samples are not whole 5402-vertex meshes: $n"
+"$BIN/hcosim" export "$WORK/run.rec" --topic HapticState --format csv >"$WORK/state.csv" 2>/dev/null ||
+  fail "csv export exited $?"
+head -1 "$WORK/state.csv" | grep -q "^device,seq,stamp.step,stamp.sim_time_ns,device_time_s,position.x," ||
+  fail "csv header: $(head -1 "$WORK/state.csv")"
+[ "$(wc -l <"$WORK/state.csv")" -eq 501 ] || fail "csv is not a header and 500 rows"
+sed -n 2p "$WORK/state.csv" | grep -q "^omni,0,0,0," || fail "csv first row: $(sed -n 2p "$WORK/state.csv")"
+
+# Chosen topics from a running deployment.
+deployment up.yaml <<'YAML'
+mode: realtime
+duration: 3
+services:
+  - {name: src, kind: test_probe, rate: 200, params: {role: source}}
+  - {name: wall, kind: test_probe, rate: 200, params: {role: wall}}
+YAML
+start rec "$BIN/hcosim" record "$WORK/probe.rec" --topics ForceFeedback,ServiceStatus --duration 4
+timeout 30 "$BIN/hcosim" up "$WORK/up.yaml" --out "$WORK/out2" >"$WORK/up2.log" 2>&1 || fail "up exited $?"
+wait "${PIDS[0]}" || fail "record exited $?: $(cat "$WORK/rec.log")"
+forces=$("$BIN/hcosim" export "$WORK/probe.rec" --topic ForceFeedback 2>/dev/null | wc -l)
+[ "$forces" -gt 300 ] || fail "only $forces ForceFeedback samples recorded"
+[ "$("$BIN/hcosim" export "$WORK/probe.rec" --topic HapticState 2>/dev/null | wc -l)" -eq 0 ] ||
+  fail "an unchosen topic was recorded"
+"$BIN/hcosim" export "$WORK/probe.rec" --topic ServiceStatus 2>/dev/null | grep -q '"service":"wall"' ||
+  fail "no ServiceStatus recorded"
+
+# Errors.
+expect() {  # CODE PATTERN COMMAND...
+  local code=$1 pattern=$2
+  shift 2
+  "$@" >"$WORK/err.log" 2>&1
+  local got=$?
+  [ $got -eq "$code" ] || fail "$* exited $got, expected $code: $(cat "$WORK/err.log")"
+  grep -qE -- "$pattern" "$WORK/err.log" || fail "$* did not say '$pattern': $(cat "$WORK/err.log")"
+}
+expect 2 "unknown topic 'Nope'" "$BIN/hcosim" export "$WORK/run.rec" --topic Nope
+expect 2 "unknown topic 'Nope'" "$BIN/hcosim" record "$WORK/x.rec" --topics Nope --duration 1
+expect 1 "up.yaml: not an hcosim recording" "$BIN/hcosim" export "$WORK/up.yaml" --topic HapticState
+head -c 100000 "$WORK/run.rec" >"$WORK/cut.rec"
+expect 1 "cut.rec: record at byte [0-9]+ is cut short" "$BIN/hcosim" export "$WORK/cut.rec" --topic HapticState
+expect 2 "--format must be jsonl or csv" "$BIN/hcosim" export "$WORK/run.rec" --topic HapticState --format xml
+echo "record_test: ok"
