@@ -82,9 +82,12 @@ class VisualWorker {
     cv_.notify_one();
     if (thread_.joinable()) thread_.join();
   }
-  // Each item's cage, in order; false if the previous frame is still being published.
-  bool post(std::vector<Eigen::Matrix3Xd> cages, const StepStamp& stamp) {
-    std::lock_guard<std::mutex> l(m_);
+  // Each item's cage, in order; false if the previous frame is still being
+  // published. With `wait` (lockstep, where every frame must go out) it
+  // waits for that frame instead.
+  bool post(std::vector<Eigen::Matrix3Xd> cages, const StepStamp& stamp, bool wait) {
+    std::unique_lock<std::mutex> l(m_);
+    if (wait) cv_.wait(l, [this] { return !busy_; });
     if (busy_) return false;
     busy_ = true, cages_ = std::move(cages), stamp_ = stamp;
     cv_.notify_one();
@@ -109,6 +112,7 @@ class VisualWorker {
         l.lock();
         frame_ms_.add((mono_ns() - t0) * 1e-6);
         busy_ = false;
+        cv_.notify_all();  // a waiting post()
       }
       if (stop_) return;
     }
@@ -159,7 +163,7 @@ int run(int argc, char** argv) {
   double next_frame = 0;
   const int status = svc.run([&](const Tick& tick) {
     const double now = tick.sim_time_ns * 1e-9;
-    in.take([&](const HapticState& s) {
+    svc.take(in, tick, [&](const HapticState& s) {
       if (s.device().to_string() == device) latest = s, have = true;
     });
     const std::int64_t t0 = mono_ns();
@@ -191,7 +195,7 @@ int run(int argc, char** argv) {
       } else {
         std::vector<Eigen::Matrix3Xd> cages;
         for (const Item& it : items) cages.push_back(it.model->cage());
-        if (!visual.post(std::move(cages), svc.stamp(tick))) ++frames_dropped;
+        if (!visual.post(std::move(cages), svc.stamp(tick), svc.options().mode == Mode::kLockstep)) ++frames_dropped;
       }
     }
   });

@@ -94,7 +94,7 @@ int run(int argc, char** argv) {
     out.write(hs);
     answered.clear();
     auto take = [&] {
-      in.take([&](const ForceFeedback& s) {
+      svc.take(in, tick, [&](const ForceFeedback& s) {
         if (s.device().to_string() != name) return;
         rtt.answered(s.answers_seq(), mono_ns());
         const std::string from = s.source().to_string();
@@ -104,7 +104,8 @@ int run(int argc, char** argv) {
       });
     };
     take();
-    const std::int64_t deadline = sent + std::int64_t(answer_wait * 1e9);
+    // In lockstep this tick's answers belong to the next tick: no wait.
+    const std::int64_t deadline = sent + std::int64_t(svc.options().mode == Mode::kLockstep ? 0 : answer_wait * 1e9);
     while (answered.size() < sources && mono_ns() < deadline && in.wait(std::chrono::nanoseconds(deadline - mono_ns())))
       take();
     if (in.matched() >= int(sources)) ++with_sources, on_time += answered.size() >= sources;

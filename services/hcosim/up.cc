@@ -263,6 +263,9 @@ int up(const std::vector<std::string>& argv) {
   // up's participant exists before the services, so that the recorder's
   // readers are there when their writers appear.
   rt::Participant participant(d.domain, "hcosim_up");
+  // In lockstep the recorder's readers are reliable: the services wait for
+  // them too, so a recording holds every sample.
+  participant.set_lockstep(d.mode == rt::Mode::kLockstep);
   Progress progress(participant);
   std::unique_ptr<rt::Recorder> recorder;
   if (!record.empty()) recorder = std::make_unique<rt::Recorder>(participant, record, std::vector<std::string>{});

@@ -127,7 +127,7 @@ int run(int argc, char** argv) {
   double felt = 0, worst[4] = {0, 0, 0, 0};  // max force; max divergences
   const int status = svc.run([&](const Tick& tick) {
     const double now = tick.sim_time_ns * 1e-9;
-    in.take([&](const HapticState& s) {
+    svc.take(in, tick, [&](const HapticState& s) {
       if (s.device().to_string() == device) latest = s, have = true, state_time = now;
     });
     const std::int64_t t0 = mono_ns();

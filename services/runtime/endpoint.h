@@ -1,11 +1,13 @@
 // Typed DataWriter and DataReader over the participant's QoS profiles.
 #pragma once
 
+#include <algorithm>
 #include <chrono>
 #include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <fastdds/dds/core/status/PublicationMatchedStatus.hpp>
 #include <fastdds/dds/core/status/SubscriptionMatchedStatus.hpp>
@@ -23,6 +25,9 @@ inline eprosima::fastrtps::Duration_t to_dds(std::chrono::nanoseconds d) {
   return eprosima::fastrtps::Duration_t(static_cast<int32_t>(s.count()), static_cast<uint32_t>((d - s).count()));
 }
 
+// Heartbeat period of lockstep writers, ns (see Writer).
+inline constexpr std::uint32_t kLockstepHeartbeatNs = 100'000;
+
 // Samples refused by validation: how many and the latest reason.
 struct Rejections {
   std::uint64_t count = 0;
@@ -34,7 +39,18 @@ template <class T>
 class Writer {
  public:
   explicit Writer(Participant& p, const std::string& profile = TopicOf<T>::qos) : p_(p) {
-    writer_ = p.publisher()->create_datawriter_with_profile(p.topic<T>(), profile);
+    if (p.lockstep()) {
+      eprosima::fastdds::dds::DataWriterQos qos;
+      p.publisher()->get_datawriter_qos_from_profile(profile, qos);
+      qos.reliability().kind = eprosima::fastdds::dds::RELIABLE_RELIABILITY_QOS;
+      // Every step waits for its outputs' acknowledgments, which readers
+      // send in answer to a heartbeat: the default 3 s period would make
+      // each step last that long.
+      qos.reliable_writer_qos().times.heartbeatPeriod = eprosima::fastrtps::Duration_t(0, kLockstepHeartbeatNs);
+      writer_ = p.publisher()->create_datawriter(p.topic<T>(), qos);
+    } else {
+      writer_ = p.publisher()->create_datawriter_with_profile(p.topic<T>(), profile);
+    }
     if (!writer_)
       throw std::runtime_error(std::string("cannot create a writer for ") + TopicOf<T>::name + " with QoS profile '" +
                                profile + "'");
@@ -77,9 +93,14 @@ class Reader {
   Reader(Participant& p, Validator validate = nullptr, Rejections* rejections = nullptr,
          const std::string& profile = TopicOf<T>::qos, int depth = 0)
       : p_(p), validate_(std::move(validate)), rejections_(rejections) {
+    if (p.lockstep() && depth == 0) depth = Participant::kLockstepDepth;
     if (depth > 0) {
       eprosima::fastdds::dds::DataReaderQos qos;
       p.subscriber()->get_datareader_qos_from_profile(profile, qos);
+      if (p.lockstep()) {
+        qos.reliability().kind = eprosima::fastdds::dds::RELIABLE_RELIABILITY_QOS;
+        qos.reliable_reader_qos().times.heartbeatResponseDelay = eprosima::fastrtps::Duration_t(0, 0);
+      }
       qos.history().kind = eprosima::fastdds::dds::KEEP_LAST_HISTORY_QOS;
       qos.history().depth = depth;
       qos.resource_limits().max_instances = 64;
@@ -120,6 +141,20 @@ class Reader {
     return admitted;
   }
 
+  // take() for a lockstep step: only samples stamped before `step`, in
+  // step order (ties in arrival order); later ones are kept for the steps
+  // they belong to.
+  template <class F>
+  std::size_t take_before(std::uint64_t step, F&& f) {
+    take([&](const T& s) { held_.push_back(s); });
+    std::stable_sort(held_.begin(), held_.end(),
+                     [](const T& a, const T& b) { return a.stamp().step() < b.stamp().step(); });
+    std::size_t n = 0;
+    while (n < held_.size() && held_[n].stamp().step() < step) f(held_[n++]);
+    held_.erase(held_.begin(), held_.begin() + std::ptrdiff_t(n));
+    return n;
+  }
+
   // Blocks until a sample is unread or `timeout` passes; true if one is.
   bool wait(std::chrono::nanoseconds timeout) {
     return reader_->wait_for_unread_message(to_dds(timeout));
@@ -138,6 +173,7 @@ class Reader {
   Rejections* rejections_;
   eprosima::fastdds::dds::DataReader* reader_ = nullptr;
   T sample_;  // reused so that large samples do not reallocate every take
+  std::vector<T> held_;  // lockstep: samples taken ahead of their step
 };
 
 }  // namespace hcosim::rt

@@ -17,7 +17,8 @@ std::string default_qos_file() {
 }
 
 Participant::Participant(int domain, const std::string& name, const std::string& qos_file,
-                         DomainParticipantListener* listener) {
+                         DomainParticipantListener* listener, bool lockstep)
+    : lockstep_(lockstep) {
   if (domain < 0 || domain > kMaxDomain)
     throw std::runtime_error("domain id " + std::to_string(domain) + " is outside 0.." +
                              std::to_string(kMaxDomain));

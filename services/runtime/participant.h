@@ -29,8 +29,9 @@ class Participant {
   // Loads `qos_file` and joins `domain` under `name` (shown in discovery).
   // Throws std::runtime_error naming the file or the domain on failure.
   // A `listener`, if given, hears discovery from the first moment.
+  // `lockstep`: see set_lockstep().
   Participant(int domain, const std::string& name, const std::string& qos_file = default_qos_file(),
-              eprosima::fastdds::dds::DomainParticipantListener* listener = nullptr);
+              eprosima::fastdds::dds::DomainParticipantListener* listener = nullptr, bool lockstep = false);
   ~Participant();
   Participant(const Participant&) = delete;
   Participant& operator=(const Participant&) = delete;
@@ -42,6 +43,13 @@ class Participant {
     if (it != topics_.end()) return it->second;
     return make_topic(TopicOf<T>::name, TopicOf<T>::type_name, new typename TopicOf<T>::PubSub());
   }
+
+  // In lockstep every writer and reader made afterwards is RELIABLE and
+  // readers keep kLockstepDepth samples per instance: a step must see every
+  // input of the steps before it (docs/cosimulation.md).
+  void set_lockstep(bool on) { lockstep_ = on; }
+  bool lockstep() const { return lockstep_; }
+  static constexpr int kLockstepDepth = 16;
 
   eprosima::fastdds::dds::DomainParticipant* dds() const { return participant_; }
   eprosima::fastdds::dds::Publisher* publisher() const { return publisher_; }
@@ -55,6 +63,7 @@ class Participant {
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
   std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;
+  bool lockstep_ = false;
 };
 
 }  // namespace hcosim::rt

@@ -106,7 +106,7 @@ Options parse_options(int argc, char** argv) {
 Service::Service(Options options)
     : options_(std::move(options)),
       period_steps_(steps_per_period(options_)),
-      participant_(options_.domain, options_.name, options_.qos_file),
+      participant_(options_.domain, options_.name, options_.qos_file, nullptr, options_.mode == Mode::kLockstep),
       params_(load_params(options_)),
       status_(participant_) {
   install_stop_handlers();
@@ -222,6 +222,11 @@ int Service::run_lockstep(const std::function<void(const Tick&)>& step) {
       // forever (seen in CI). Wait for this side's match first.
       for (int i = 0; i < 5000 && done.matched() == 0 && !g_stop; ++i)
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      // This step's outputs reach every reader before the clock hears the
+      // step is done, so the next step's inputs are all there.
+      if (participant_.publisher()->wait_for_acknowledgments(to_dds(std::chrono::seconds(2))) !=
+          ReturnCode_t::RETCODE_OK)
+        std::cerr << options_.name << ": step " << t.step() << ": outputs not acknowledged by every reader in 2 s\n";
       StepDone d;
       d.service(options_.name);
       d.step(t.step());

@@ -53,6 +53,16 @@ class Service {
     return Reader<T>(participant_, [](const T& s) { return validate(s); }, &rejections_, profile);
   }
 
+  // The admissible samples of `r` for this step: in real time all that
+  // arrived; in lockstep those stamped before the tick's step, which have
+  // all arrived by then (every service waits for its outputs to be
+  // acknowledged before it reports a step done), so a step's inputs do
+  // not depend on delivery order.
+  template <class T, class F>
+  std::size_t take(Reader<T>& r, const Tick& tick, F&& f) {
+    return options_.mode == Mode::kLockstep ? r.take_before(tick.step, std::forward<F>(f)) : r.take(std::forward<F>(f));
+  }
+
   // This service's params from the deployment file (empty without one).
   const Params& params() const { return params_; }
 
