@@ -75,6 +75,9 @@ Commands:
         write a haptic device's HapticState as a trajectory the replay device plays
   export REC --topic TOPIC [--format jsonl|csv] [--wall]
         print one topic of a recording, one sample a line, in step order
+  replay REC [--topics T1,T2] [--speed X] [--clock sim|receive] [--domain D]
+        publish a recording's samples again on their simulated-time schedule
+        (or the one they were received on)
   bench SUITE|all|list [--quick] --out DIR
         run a benchmark suite and write DIR/SUITE.json
   track --source VIDEO_OR_FOLDER --camera INTRINSICS.yaml --tag-size M --out POSES.jsonl
@@ -107,6 +110,7 @@ int main(int argc, char** argv) {
     if (cmd == "track") return track(rest);
     if (cmd == "synth") return synth(rest);
     if (cmd == "export") return export_recording(rest);
+    if (cmd == "replay") return replay(rest);
     if (cmd == "bench-peer") return bench_peer(rest);
     std::cerr << "hcosim: unknown command '" << cmd << "'\n\n" << kUsage;
     return 2;
