@@ -26,7 +26,8 @@ std::string names(const std::set<std::string>& s) {
 int run_clock(Options options) {
   std::set<std::string> followers;
   if (!options.deployment.empty())
-    for (const auto& s : load_deployment(options.deployment).services) followers.insert(s.name);
+    for (const auto& s : load_deployment(options.deployment).services)
+      if (s.unneeded.empty()) followers.insert(s.name);
   options.mode = Mode::kLockstep;
   options.deployment.clear();  // the clock has no params of its own
   Service svc(options);

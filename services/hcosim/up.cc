@@ -241,6 +241,10 @@ int up(const std::vector<std::string>& argv) {
   };
   std::vector<Child> children;
   for (const auto& s : d.services) {
+    if (!s.unneeded.empty()) {
+      std::printf("hcosim up: not starting %s: %s\n", s.name.c_str(), s.unneeded.c_str());
+      continue;
+    }
     rt::check_policy(s, d.mode);  // --mode may have changed the file's mode
     children.push_back({s.name, find_service(s.kind, d.file, s.line), common(s.name, s.rate_hz), s.on_failure});
   }

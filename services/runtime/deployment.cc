@@ -14,7 +14,7 @@ namespace {
 
 ServiceSpec parse_service(const std::string& file, const YAML::Node& node) {
   if (!node.IsMap()) throw config_error(file, node, "each service must be a map with name, kind and rate");
-  check_keys(file, node, {"name", "kind", "rate", "params", "on_failure"});
+  check_keys(file, node, {"name", "kind", "rate", "params", "on_failure", "objects"});
   ServiceSpec s;
   s.line = node.Mark().line + 1;
   s.where = file + ":" + std::to_string(s.line) + ":" + std::to_string(node.Mark().column + 1);
@@ -40,7 +40,94 @@ ServiceSpec parse_service(const std::string& file, const YAML::Node& node) {
   }
   s.params = node["params"] ? node["params"] : YAML::Node(YAML::NodeType::Map);
   if (!s.params.IsMap()) throw config_error(file, node["params"], "'params' must be a map");
+  if (const YAML::Node n = node["objects"]) {
+    if (!n.IsSequence()) throw config_error(file, n, "'objects' must be a list of scene object names");
+    for (const YAML::Node& o : n) s.objects.push_back(config_text(file, o, "objects"));
+  }
   return s;
+}
+
+Scene parse_scene(const std::string& file, const YAML::Node& node) {
+  if (!node.IsMap()) throw config_error(file, node, "'scene' must be a map of marker, camera and objects");
+  check_keys(file, node, {"marker", "camera", "objects"});
+  Scene scene;
+  scene.defined = true;
+  // yaml-cpp throws when a missing node is assigned: assign only present ones.
+  if (const YAML::Node m = node["marker"]) {
+    if (!m.IsMap()) throw config_error(file, m, "'marker' must be a map");
+    check_keys(file, m, {"family", "id", "size"});
+    scene.marker = m;
+  }
+  if (const YAML::Node c = node["camera"]) {
+    if (!c.IsMap()) throw config_error(file, c, "'camera' must be a map of the tracker's params (docs/tracking.md)");
+    scene.camera = c;
+  }
+  if (const YAML::Node list = node["objects"]) {
+    if (!list.IsSequence()) throw config_error(file, list, "'objects' must be a list");
+    std::set<std::string> names;
+    for (const YAML::Node& o : list) {
+      if (!o.IsMap()) throw config_error(file, o, "each scene object must be a map with name and kind");
+      for (const char* key : {"name", "kind"})
+        if (!o[key]) throw config_error(file, o, std::string("scene object is missing required key '") + key + "'");
+      const std::string name = config_text(file, o["name"], "name");
+      const std::string kind = config_text(file, o["kind"], "kind");
+      if (kind != "rigid" && kind != "deformable")
+        throw config_error(file, o["kind"], "scene object kind must be rigid or deformable, not '" + kind + "'");
+      if (!names.insert(name).second) throw config_error(file, o["name"], "scene object '" + name + "' is defined twice");
+      scene.objects.push_back(o);
+    }
+  }
+  return scene;
+}
+
+// The scene's part for one service, added to its params unless they give
+// their own: deformable and rigid services get the scene's objects of
+// their kind (as `objects` and `bodies`), the tracker the camera and the
+// marker. A service with nothing to serve is marked unneeded.
+void add_scene(const std::string& file, const Scene& scene, ServiceSpec& s, const YAML::Node& entry) {
+  for (std::size_t i = 0; i < s.objects.size(); ++i) {
+    bool found = false;
+    for (const YAML::Node& o : scene.objects) found = found || o["name"].Scalar() == s.objects[i];
+    if (!found) throw config_error(file, entry["objects"][i], "no object '" + s.objects[i] + "' in the scene");
+  }
+  // A fresh map holding the same nodes, so errors still name their lines.
+  YAML::Node params(YAML::NodeType::Map);
+  for (const auto& kv : s.params) params[kv.first.Scalar()] = kv.second;
+  const auto objects_of = [&](const std::string& kind) {
+    YAML::Node list(YAML::NodeType::Sequence);
+    for (const YAML::Node& o : scene.objects) {
+      const std::string name = o["name"].Scalar();
+      if (o["kind"].Scalar() != kind) continue;
+      if (!s.objects.empty() && std::find(s.objects.begin(), s.objects.end(), name) == s.objects.end()) continue;
+      YAML::Node copy(YAML::NodeType::Map);
+      for (const auto& kv : o)
+        if (kv.first.Scalar() != "kind") copy[kv.first.Scalar()] = kv.second;
+      list.push_back(copy);
+    }
+    return list;
+  };
+  if (s.kind == "deformable" || s.kind == "rigid") {
+    const char* key = s.kind == "rigid" ? "bodies" : "objects";
+    if (!params[key]) {
+      const YAML::Node list = objects_of(s.kind);
+      if (list.size() == 0 && scene.defined) s.unneeded = "the scene has no " + s.kind + " object";
+      else params[key] = list;
+    }
+  } else if (s.kind == "tracker") {
+    // An absent camera or marker is a null node, which converts to true: ask IsMap.
+    if (scene.camera.IsMap())
+      for (const auto& kv : scene.camera)
+        if (!params[kv.first.Scalar()]) params[kv.first.Scalar()] = kv.second;
+    if (scene.marker.IsMap()) {
+      const std::pair<const char*, const char*> keys[] = {{"family", "family"}, {"size", "tag_size"}, {"id", "tag_id"}};
+      for (const auto& [from, to] : keys)
+        if (scene.marker[from] && !params[to]) params[to] = scene.marker[from];
+    }
+    if (!scene.camera.IsMap() && s.params.size() == 0 && scene.defined) s.unneeded = "the scene has no camera";
+  }
+  if (!s.objects.empty() && s.kind != "deformable" && s.kind != "rigid")
+    throw config_error(file, entry["objects"], "only deformable and rigid services serve scene objects");
+  s.params = params;
 }
 
 }  // namespace
@@ -66,7 +153,7 @@ Mode parse_mode(const std::string& s) {
 Deployment load_deployment(const std::string& path) {
   const YAML::Node root = load_yaml(path);
   if (!root.IsMap()) throw ConfigError(path + ":1:1: a deployment must be a YAML map");
-  check_keys(path, root, {"domain", "mode", "step", "duration", "services"});
+  check_keys(path, root, {"domain", "mode", "step", "duration", "scene", "services"});
 
   Deployment d;
   d.file = path;
@@ -91,6 +178,7 @@ Deployment load_deployment(const std::string& path) {
     d.duration_s = config_number(path, n, "duration");
     if (d.duration_s < 0) throw config_error(path, n, "'duration' must not be negative");
   }
+  if (auto n = root["scene"]) d.scene = parse_scene(path, n);
   if (auto n = root["services"]) {
     if (!n.IsSequence()) throw config_error(path, n, "'services' must be a list");
     std::set<std::string> names;
@@ -101,6 +189,7 @@ Deployment load_deployment(const std::string& path) {
       if (!names.insert(spec.name).second)
         throw config_error(path, s["name"], "service name '" + spec.name + "' is used twice");
       check_policy(spec, d.mode);
+      add_scene(path, d.scene, spec, s);
       d.services.push_back(std::move(spec));
     }
   }

@@ -38,6 +38,8 @@ struct ServiceSpec {
   double rate_hz = 0;  // step rate, Hz, > 0
   YAML::Node params;   // kind-specific; checked by the service itself
   OnFailure on_failure = OnFailure::kStopAll;
+  std::vector<std::string> objects;  // scene objects this service serves; empty: every one of its kind
+  std::string unneeded;  // why the scene does not need this service ("" when it does): hcosim up does not start it
   std::string where;   // "FILE:LINE:COL" of its on_failure (else of the entry), for check_policy
   int line = 0;        // 1-based line of the entry in the file
 };
@@ -47,8 +49,20 @@ struct ServiceSpec {
 // a follower can neither be missing nor rejoin.
 void check_policy(const ServiceSpec& s, Mode mode);
 
+// The scene: what the services serve (docs/deployment.md, "The scene").
+// Each object is a map with `name` and `kind` (rigid or deformable) and
+// the keys of its service's objects; the camera is the tracker's params;
+// the marker gives the tracker its tag.
+struct Scene {
+  bool defined = false;              // the file has a scene: services it does not need are not started
+  YAML::Node marker;                 // {family, id, size}, or null
+  YAML::Node camera;                 // a map, or null
+  std::vector<YAML::Node> objects;   // maps with name and kind
+};
+
 struct Deployment {
   std::string file;
+  Scene scene;
   int domain = 0;           // DDS domain id, 0..232
   Mode mode = Mode::kRealtime;
   double step_s = 0.001;    // base step, s: lockstep tick length

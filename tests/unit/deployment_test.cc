@@ -80,7 +80,14 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"on_failure", "services:\n  - {name: a, kind: b, rate: 5, on_failure: retry}\n", ":2:45: ",
                 "stop_all, restart or ignore"},
         BadCase{"restart_lockstep", "mode: lockstep\nservices:\n  - {name: a, kind: b, rate: 5, on_failure: restart}\n",
-                ":3:45: ", "needs mode realtime"}),
+                ":3:45: ", "needs mode realtime"},
+        BadCase{"scene_key", "scene:\n  objekts: []\n", ":2:3: ", "did you mean 'objects'?"},
+        BadCase{"scene_kind", "scene:\n  objects:\n    - {name: a, kind: fluid}\n", ":3:23: ", "rigid or deformable"},
+        BadCase{"scene_twice", "scene:\n  objects:\n    - {name: a, kind: rigid}\n    - {name: a, kind: rigid}\n",
+                ":4:14: ", "defined twice"},
+        BadCase{"scene_no_kind", "scene:\n  objects:\n    - {name: a}\n", ":3:7: ", "missing required key 'kind'"},
+        BadCase{"undefined_object", "scene:\n  objects: []\nservices:\n  - {name: a, kind: rigid, rate: 5, objects: [x]}\n",
+                ":4:47: ", "no object 'x' in the scene"}),
     [](const auto& info) { return std::string(info.param.name); });
 
 TEST(Deployment, MissingFileIsNamed) {
