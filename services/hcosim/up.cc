@@ -17,6 +17,8 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <mutex>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -33,6 +35,7 @@ volatile std::sig_atomic_t g_signal = 0;
 void on_signal(int s) { g_signal = s; }
 
 constexpr double kStopGraceS = 2.0;
+constexpr double kJoinWaitS = 10.0;  // s before up names the services that have not joined
 
 struct Child {
   std::string name;
@@ -205,6 +208,26 @@ class Progress {
   bool tty_, shown_ = false;
 };
 
+// The participants discovered on the domain, by name: a service's
+// participant carries the service's name.
+class Joined : public eprosima::fastdds::dds::DomainParticipantListener {
+ public:
+  void on_participant_discovery(eprosima::fastdds::dds::DomainParticipant*,
+                                eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
+    if (info.status != eprosima::fastrtps::rtps::ParticipantDiscoveryInfo::DISCOVERED_PARTICIPANT) return;
+    std::lock_guard<std::mutex> l(m_);
+    names_.insert(info.info.m_participantName.to_string());
+  }
+  bool has(const std::string& name) {
+    std::lock_guard<std::mutex> l(m_);
+    return names_.count(name) > 0;
+  }
+
+ private:
+  std::mutex m_;
+  std::set<std::string> names_;
+};
+
 // A process that died without closing its participant leaves shared-memory
 // segments behind; Fast DDS's tool removes the ones nobody uses.
 void clean_shared_memory() {
@@ -266,7 +289,8 @@ int up(const std::vector<std::string>& argv) {
               children.size(), d.duration_s > 0 ? "" : ", until Ctrl-C");
   // up's participant exists before the services, so that the recorder's
   // readers are there when their writers appear.
-  rt::Participant participant(d.domain, "hcosim_up");
+  Joined joined;
+  rt::Participant participant(d.domain, "hcosim_up", rt::default_qos_file(), &joined);
   // In lockstep the recorder's readers are reliable: the services wait for
   // them too, so a recording holds every sample.
   participant.set_lockstep(d.mode == rt::Mode::kLockstep);
@@ -283,15 +307,38 @@ int up(const std::vector<std::string>& argv) {
   // is the normal end) unless its on_failure policy says otherwise; so do
   // the duration and Ctrl-C.
   const std::int64_t start = rt::mono_ns();
-  const std::int64_t end = d.mode == rt::Mode::kRealtime && d.duration_s > 0
-                               ? start + std::int64_t(d.duration_s * 1e9)
-                               : INT64_MAX;
+  // A real-time run's duration counts from when every service has joined
+  // (or up stopped waiting for them); lockstep runs end with the clock.
+  const bool timed = d.mode == rt::Mode::kRealtime && d.duration_s > 0;
+  std::int64_t end = INT64_MAX;
   std::string reason;
   int code = 0;
   bool crashed = false;  // some process died by a signal: its shared memory stays behind
+  // Say when every service's participant has been discovered, or after
+  // kJoinWaitS which have not.
+  bool all_joined = false, join_warned = false;
   while (reason.empty()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(recorder ? 2 : 20));
     progress.update();
+    if (!all_joined) {
+      std::string missing;
+      for (const auto& c : children)
+        if (!joined.has(c.name)) missing += (missing.empty() ? "" : ", ") + c.name;
+      const double waited = (rt::mono_ns() - start) * 1e-9;
+      if (timed && end == INT64_MAX && (missing.empty() || waited > kJoinWaitS))
+        end = rt::mono_ns() + std::int64_t(d.duration_s * 1e9);
+      if (missing.empty()) {
+        all_joined = true;
+        progress.finish();
+        std::printf("hcosim up: every service joined domain %d in %.2f s\n", d.domain, waited);
+        std::fflush(stdout);
+      } else if (!join_warned && waited > kJoinWaitS) {
+        join_warned = true;
+        progress.finish();
+        std::printf("hcosim up: after %.0f s still no status from: %s\n", kJoinWaitS, missing.c_str());
+        std::fflush(stdout);
+      }
+    }
     if (recorder) recorder->poll();
     if (g_signal) reason = std::string("stopped by ") + (g_signal == SIGINT ? "SIGINT" : "SIGTERM");
     else if (rt::mono_ns() >= end) reason = "duration reached";

@@ -21,6 +21,8 @@ start status "$BIN/hcosim" echo ServiceStatus --count 0 --timeout 8
 start force "$BIN/hcosim" echo ForceFeedback --count 400 --timeout 8
 timeout 30 "$BIN/hcosim" up "$WORK/up.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1 || fail "up exited $?"
 grep -q "duration reached" "$WORK/up.log" || fail "up did not run to its duration"
+grep -qE "^hcosim up: every service joined domain $DOMAIN in [0-9.]+ s$" "$WORK/up.log" ||
+  fail "up did not report the services joining: $(cat "$WORK/up.log")"
 # The progress line: simulated time, pace, and every service's rate and overruns.
 grep -qE "^sim [0-9.]+ s, real-time factor (0\.9|1\.0)[0-9] \| src [0-9]+ Hz, [0-9]+ overruns \| wall [0-9]+ Hz, [0-9]+ overruns$" \
   "$WORK/up.log" || fail "no progress line with both services: $(cat "$WORK/up.log")"
