@@ -48,6 +48,8 @@ std::string config_text(const std::string& file, const YAML::Node& node, const s
 
 ConfigError config_error(const std::string& file, const YAML::Node& node, const std::string& what) {
   const auto m = node.Mark();
+  // A node made by the program (a default, or a scene's part) has no place in the file.
+  if (m.is_null()) return ConfigError(file + ": " + what);
   return ConfigError(file + ":" + std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1) + ": " + what);
 }
 

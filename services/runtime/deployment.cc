@@ -90,9 +90,10 @@ void add_scene(const std::string& file, const Scene& scene, ServiceSpec& s, cons
     for (const YAML::Node& o : scene.objects) found = found || o["name"].Scalar() == s.objects[i];
     if (!found) throw config_error(file, entry["objects"][i], "no object '" + s.objects[i] + "' in the scene");
   }
-  // A fresh map holding the same nodes, so errors still name their lines.
-  YAML::Node params(YAML::NodeType::Map);
-  for (const auto& kv : s.params) params[kv.first.Scalar()] = kv.second;
+  // The scene's part is added to the params node itself, which keeps its
+  // place in the file for errors about it.
+  YAML::Node params = s.params;
+  const bool own_params = params.size() > 0;
   const auto objects_of = [&](const std::string& kind) {
     YAML::Node list(YAML::NodeType::Sequence);
     for (const YAML::Node& o : scene.objects) {
@@ -123,11 +124,10 @@ void add_scene(const std::string& file, const Scene& scene, ServiceSpec& s, cons
       for (const auto& [from, to] : keys)
         if (scene.marker[from] && !params[to]) params[to] = scene.marker[from];
     }
-    if (!scene.camera.IsMap() && s.params.size() == 0 && scene.defined) s.unneeded = "the scene has no camera";
+    if (!scene.camera.IsMap() && !own_params && scene.defined) s.unneeded = "the scene has no camera";
   }
   if (!s.objects.empty() && s.kind != "deformable" && s.kind != "rigid")
     throw config_error(file, entry["objects"], "only deformable and rigid services serve scene objects");
-  s.params = params;
 }
 
 }  // namespace
