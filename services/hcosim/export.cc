@@ -92,9 +92,12 @@ int export_recording(const std::vector<std::string>& argv) {
 }
 
 int replay(const std::vector<std::string>& argv) {
-  const Args a = parse(argv, {"--topics", "--speed", "--domain", "--clock"}, {});
+  const Args a = parse(argv, {"--topics", "--speed", "--domain", "--clock", "--wait"}, {});
   if (a.positional.size() != 1)
-    throw std::invalid_argument("usage: hcosim replay REC [--topics T1,T2] [--speed X] [--clock sim|receive] [--domain D]");
+    throw std::invalid_argument(
+        "usage: hcosim replay REC [--topics T1,T2] [--speed X] [--clock sim|receive] [--wait S] [--domain D]");
+  const double wait_s = a.number("--wait", 10);
+  if (!(wait_s >= 0 && wait_s <= 3600)) throw std::invalid_argument("--wait must be in [0, 3600] s");
   const std::string clock = a.get("--clock", "sim");
   if (clock != "sim" && clock != "receive") throw std::invalid_argument("--clock must be sim or receive");
   // The schedule: simulated time (a lockstep run plays back at its own
@@ -120,6 +123,7 @@ int replay(const std::vector<std::string>& argv) {
   rt::Participant p(domain_of(a), "hcosim_replay");
   // One writer per topic, made before the first sample so readers can match.
   std::map<std::string, std::function<void(const rt::Record&)>> write;
+  std::map<std::string, std::function<int()>> matched;
   for (const rt::Record& r : records) {
     if (write.count(r.topic)) continue;
     rt::with_topic(r.topic, [&](auto tag) {
@@ -129,10 +133,20 @@ int replay(const std::vector<std::string>& argv) {
         T s = rt::from_cdr<T>(rec.cdr);
         w->write(s);
       };
+      matched[r.topic] = [w] { return w->matched(); };
     });
   }
-  // Readers join in the first half second, as a service's would.
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  // A replay is for its subscribers: wait until every topic has one (a
+  // service may still be building its model), up to --wait seconds.
+  const std::int64_t give_up = rt::mono_ns() + std::int64_t(wait_s * 1e9);
+  std::string unread;
+  do {
+    unread.clear();
+    for (const auto& [topic, count] : matched)
+      if (count() == 0) unread += (unread.empty() ? "" : ", ") + topic;
+    if (!unread.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  } while (!unread.empty() && rt::mono_ns() < give_up && !rt::stop_requested());
+  if (!unread.empty()) std::cerr << "hcosim replay: no reader of " << unread << " after " << wait_s << " s; replaying anyway\n";
   std::cerr << "hcosim replay: " << records.size() << " samples over "
             << (at(records.back()) - at(records.front())) * 1e-9 / speed << " s" << std::endl;
   const std::int64_t start = rt::mono_ns(), first = at(records.front());

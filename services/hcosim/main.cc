@@ -75,7 +75,7 @@ Commands:
         write a haptic device's HapticState as a trajectory the replay device plays
   export REC --topic TOPIC [--format jsonl|csv] [--wall]
         print one topic of a recording, one sample a line, in step order
-  replay REC [--topics T1,T2] [--speed X] [--clock sim|receive] [--domain D]
+  replay REC [--topics T1,T2] [--speed X] [--clock sim|receive] [--wait S] [--domain D]
         publish a recording's samples again on their simulated-time schedule
         (or the one they were received on)
   bench SUITE|all|list [--quick] --out DIR

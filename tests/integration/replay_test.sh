@@ -13,7 +13,7 @@ recorded=$("$BIN/hcosim" export "$WORK/run.rec" --topic ForceFeedback 2>/dev/nul
 [ "$recorded" -gt 100 ] || fail "the recorded run has only $recorded contact forces"
 
 # The same cube, alone, in real time; the replay is its only stylus.
-sed -n '/^services:/q;p' "$WORK/default.yaml" | sed 's/^mode: lockstep/mode: realtime/; s/^duration: .*/duration: 8/' \
+sed -n '/^services:/q;p' "$WORK/default.yaml" | sed 's/^mode: lockstep/mode: realtime/; s/^duration: .*/duration: 12/' \
   >"$WORK/alone.yaml"
 cat >>"$WORK/alone.yaml" <<'YAML'
 services:
@@ -26,10 +26,10 @@ services:
         - {name: cube, model: hybrid, centre: [0, 0, 0.05], size: 0.1}
 YAML
 grep -q "mode: realtime" "$WORK/alone.yaml" || fail "could not derive the real-time deployment"
-start forces "$BIN/hcosim" echo ForceFeedback --count 0 --timeout 7
+start forces "$BIN/hcosim" echo ForceFeedback --count 0 --timeout 11
 start up "$BIN/hcosim" up "$WORK/alone.yaml" --out "$WORK/alone"
-sleep 1
-timeout 20 "$BIN/hcosim" replay "$WORK/run.rec" --topics HapticState >"$WORK/replay.log" 2>&1 ||
+# replay waits for the service's reader (it builds its model first).
+timeout 30 "$BIN/hcosim" replay "$WORK/run.rec" --topics HapticState >"$WORK/replay.log" 2>&1 ||
   fail "replay exited $?: $(cat "$WORK/replay.log")"
 grep -q "published 2000 samples" "$WORK/replay.log" || fail "replay did not publish the 2000 states: $(cat "$WORK/replay.log")"
 wait "${PIDS[0]}"
