@@ -182,7 +182,7 @@ class Progress {
     std::string line = text("sim %.1f s, real-time factor %.2f", sim_ns_ * 1e-9, factor_);
     for (const auto& [name, s] : latest_)
       line += text(" | %s %.0f Hz, %llu overruns", name.c_str(), s.rate_achieved_hz(),
-                        static_cast<unsigned long long>(s.overruns()));
+                   static_cast<unsigned long long>(s.overruns()));
     std::printf(tty_ ? "\r%s\033[K" : "%s\n", line.c_str());
     std::fflush(stdout);
     shown_ = true;
