@@ -52,3 +52,20 @@ deployment() {
 }
 
 alive() { kill -0 "$1" 2>/dev/null; }
+
+# cube_alone FILE DURATION: the default deployment's hybrid cube served alone
+# by a deformable service in real time for DURATION s, into $WORK/FILE
+cube_alone() {
+  deployment "$1" <<YAML
+mode: realtime
+duration: $2
+services:
+  - name: objects
+    kind: deformable
+    rate: 1000
+    params:
+      device: omni
+      objects:
+        - {name: cube, model: hybrid, centre: [0, 0, 0.05], size: 0.1}
+YAML
+}

@@ -13,19 +13,7 @@ recorded=$("$BIN/hcosim" export "$WORK/run.rec" --topic ForceFeedback 2>/dev/nul
 [ "$recorded" -gt 100 ] || fail "the recorded run has only $recorded contact forces"
 
 # The same cube, alone, in real time; the replay is its only stylus.
-sed -n '/^services:/q;p' "$WORK/default.yaml" | sed 's/^mode: lockstep/mode: realtime/; s/^duration: .*/duration: 12/' \
-  >"$WORK/alone.yaml"
-cat >>"$WORK/alone.yaml" <<'YAML'
-services:
-  - name: objects
-    kind: deformable
-    rate: 1000
-    params:
-      device: omni
-      objects:
-        - {name: cube, model: hybrid, centre: [0, 0, 0.05], size: 0.1}
-YAML
-grep -q "mode: realtime" "$WORK/alone.yaml" || fail "could not derive the real-time deployment"
+cube_alone alone.yaml 12
 start forces "$BIN/hcosim" echo ForceFeedback --count 0 --timeout 11
 start up "$BIN/hcosim" up "$WORK/alone.yaml" --out "$WORK/alone"
 # replay waits for the service's reader (it builds its model first).

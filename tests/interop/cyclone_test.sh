@@ -16,19 +16,7 @@ echo "$out" | grep -q "topology of 'liver', version 1, 5402 vertices, 5400 trian
 # before it starts (live), another joins 2 s later (late); both rebuild the
 # hybrid cube's 5402-vertex visual mesh.
 kill -TERM "${PIDS[0]}" && wait "${PIDS[0]}"  # the probe's meshes end here
-cat >"$WORK/cube.yaml" <<YAML
-domain: $DOMAIN
-mode: realtime
-duration: 8
-services:
-  - name: objects
-    kind: deformable
-    rate: 1000
-    params:
-      device: omni
-      objects:
-        - {name: cube, model: hybrid, centre: [0, 0, 0.05], size: 0.1}
-YAML
+cube_alone cube.yaml 8
 "$READER" "$DOMAIN" 5402 10 30 model >"$WORK/live.log" 2>&1 &
 live=$!
 PIDS+=($live)
