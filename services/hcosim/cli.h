@@ -26,6 +26,10 @@ Args parse(const std::vector<std::string>& argv, const std::set<std::string>& fl
 // Domain from --domain, else $HCOSIM_DOMAIN, else 0.
 int domain_of(const Args& a);
 
+// The topics named by --topics T1,T2 (none: every topic); throws
+// std::invalid_argument naming one that is not in the contract.
+std::vector<std::string> topics_of(const Args& a);
+
 int up(const std::vector<std::string>& argv);
 int topics(const std::vector<std::string>& argv);
 int echo(const std::vector<std::string>& argv);

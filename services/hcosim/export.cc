@@ -8,7 +8,6 @@
 #include <map>
 #include <memory>
 #include <regex>
-#include <sstream>
 #include <thread>
 #include <stdexcept>
 
@@ -105,13 +104,7 @@ int replay(const std::vector<std::string>& argv) {
   const auto at = [&](const rt::Record& r) { return clock == "sim" ? r.sim_time_ns : r.receive_ns; };
   const double speed = a.number("--speed", 1);
   if (!(speed > 0 && speed <= 1000)) throw std::invalid_argument("--speed must be in (0, 1000]");
-  std::vector<std::string> topics;
-  std::stringstream list(a.get("--topics", ""));
-  for (std::string t; std::getline(list, t, ',');) {
-    if (t.empty()) continue;
-    if (!rt::with_topic(t, [](auto) {})) throw std::invalid_argument("unknown topic '" + t + "'");
-    topics.push_back(t);
-  }
+  const std::vector<std::string> topics = topics_of(a);
   rt::RecordingReader in(a.positional[0]);
   std::vector<rt::Record> records;
   for (rt::Record r; in.next(r);)

@@ -3,6 +3,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
+#include <sstream>
 #include <stdexcept>
 
 #include "cli.h"
@@ -50,6 +51,17 @@ int domain_of(const Args& a) {
   if (d != std::floor(d) || d < 0 || d > rt::kMaxDomain)
     throw std::invalid_argument("--domain must be a whole number in 0.." + std::to_string(rt::kMaxDomain));
   return static_cast<int>(d);
+}
+
+std::vector<std::string> topics_of(const Args& a) {
+  std::vector<std::string> topics;
+  std::stringstream list(a.get("--topics", ""));
+  for (std::string t; std::getline(list, t, ',');) {
+    if (t.empty()) continue;
+    if (!rt::with_topic(t, [](auto) {})) throw std::invalid_argument("unknown topic '" + t + "'");
+    topics.push_back(t);
+  }
+  return topics;
 }
 
 }  // namespace hcosim::cli

@@ -4,7 +4,6 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
-#include <sstream>
 #include <stdexcept>
 #include <thread>
 
@@ -21,10 +20,7 @@ namespace {
 int record_topics(const Args& a) {
   if (a.positional.size() != 1 || a.has("--out") || a.has("--device"))
     throw std::invalid_argument("usage: hcosim record FILE [--topics T1,T2] [--duration S] [--domain D]");
-  std::vector<std::string> topics;
-  std::stringstream list(a.get("--topics", ""));
-  for (std::string t; std::getline(list, t, ',');)
-    if (!t.empty()) topics.push_back(t);
+  const std::vector<std::string> topics = topics_of(a);
   const double duration = a.number("--duration", 0);
   if (duration < 0) throw std::invalid_argument("--duration must not be negative");
   rt::install_stop_handlers();

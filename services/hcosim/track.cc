@@ -30,6 +30,9 @@ using namespace hcosim::vision;
 
 // Frames without a tag are named one by one up to this many, then counted.
 constexpr int kNamedMisses = 10;
+// Per-frame times and errors kept for the summary's percentiles (a longer
+// source is summarised over its last this many frames).
+constexpr std::size_t kMaxFrames = 1 << 16;
 
 // {"frame": i, "id": n, "R": [row-major, tag to camera], "t": [m], "reprojection_error_px": e}
 std::string pose_line(std::uint64_t frame, int id, const Eigen::Isometry3d& p, double error_px) {
@@ -67,12 +70,6 @@ std::map<std::pair<std::uint64_t, int>, Eigen::Isometry3d> read_poses(const std:
     }
   }
   return out;
-}
-
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return std::nan("");
-  std::sort(v.begin(), v.end());
-  return v[std::size_t(q * double(v.size() - 1) + 0.5)];
 }
 
 std::pair<int, int> parse_resolution(const std::string& s) {
@@ -114,7 +111,7 @@ int track(const std::vector<std::string>& argv) {
 
   std::unique_ptr<Tracker> tracker;
   std::uint64_t frames = 0, with_tag = 0, detections = 0, misses = 0, unreadable = 0, wrong_size = 0;
-  std::vector<double> trans, rot, ms;
+  rt::Window trans(kMaxFrames), rot(kMaxFrames), ms(kMaxFrames);
   std::int64_t last_progress = rt::mono_ns();
   for (Frame f; source->next(f);) {
     ++frames;
@@ -135,7 +132,7 @@ int track(const std::vector<std::string>& argv) {
     }
     const std::int64_t t0 = rt::mono_ns();
     const std::vector<Observation> seen = tracker->track(f.image);
-    ms.push_back((rt::mono_ns() - t0) * 1e-6);
+    ms.add((rt::mono_ns() - t0) * 1e-6);
     if (seen.empty() && ++misses <= kNamedMisses)
       std::cerr << "track: frame " << f.index << ": no " << p.detector.family << " tag found" << std::endl;
     with_tag += !seen.empty();
@@ -144,9 +141,9 @@ int track(const std::vector<std::string>& argv) {
       out << pose_line(f.index, o.detection.id, o.pose.tag_in_camera, o.pose.reprojection_error_px) << '\n';
       const auto t = truth.find({f.index, o.detection.id});
       if (t == truth.end()) continue;
-      trans.push_back(100 * (o.pose.tag_in_camera.translation() - t->second.translation()).norm() /
+      trans.add(100 * (o.pose.tag_in_camera.translation() - t->second.translation()).norm() /
                       t->second.translation().norm());
-      rot.push_back(angle_between(o.pose.tag_in_camera.linear(), t->second.linear()) * 180 / M_PI);
+      rot.add(angle_between(o.pose.tag_in_camera.linear(), t->second.linear()) * 180 / M_PI);
     }
     if (rt::mono_ns() - last_progress > 2'000'000'000) {
       last_progress = rt::mono_ns();
@@ -160,12 +157,12 @@ int track(const std::vector<std::string>& argv) {
               "size, %llu tags no pose fits; detection and pose median %.2f ms a frame\n",
               (unsigned long long)frames, (unsigned long long)with_tag, (unsigned long long)detections,
               out_path.c_str(), (unsigned long long)unreadable, (unsigned long long)wrong_size,
-              (unsigned long long)(tracker ? tracker->unposed() : 0), percentile(ms, 0.5));
+              (unsigned long long)(tracker ? tracker->unposed() : 0), ms.percentile(0.5));
   if (!truth.empty())
     std::printf("track: against %s: %zu of %zu true poses detected; translation error p50 %.3f%% p95 %.3f%% of "
                 "distance, rotation error p50 %.3f deg p95 %.3f deg\n",
-                a.get("--truth", "").c_str(), trans.size(), truth.size(), percentile(trans, 0.5),
-                percentile(trans, 0.95), percentile(rot, 0.5), percentile(rot, 0.95));
+                a.get("--truth", "").c_str(), trans.size(), truth.size(), trans.percentile(0.5),
+                trans.percentile(0.95), rot.percentile(0.5), rot.percentile(0.95));
   if (detections == 0) {
     std::cerr << "track: no tag in any frame: is the family (" << p.detector.family
               << ") right, and the tag whole and in focus?" << std::endl;
