@@ -1,5 +1,7 @@
 #include "device/script_yaml.h"
 
+#include <cmath>
+
 #include "config.h"
 
 namespace hcosim::device {
@@ -28,6 +30,7 @@ haptic::Action action(const std::string& file, const YAML::Node& item) {
   else if (kind == "release") a.kind = K::release, keys = {"speed"};
   else check_keys(file, item, kinds);  // throws, with the nearest action name
   if (!body.IsMap()) throw config_error(file, body, "'" + kind + "' takes a map of " + join(keys));
+  keys.push_back("buttons");
   check_keys(file, body, keys);
   if (kind == "move_to" && !body["to"]) throw config_error(file, body, "move_to needs 'to'");
   if (kind == "stroke" && !body["by"]) throw config_error(file, body, "stroke needs 'by'");
@@ -39,6 +42,12 @@ haptic::Action action(const std::string& file, const YAML::Node& item) {
   if (body["force"]) a.force = config_number(file, body["force"], "force");
   if (body["speed"]) a.speed = config_number(file, body["speed"], "speed");
   if (body["duration"]) a.duration = config_number(file, body["duration"], "duration");
+  if (body["buttons"]) {
+    const double b = config_number(file, body["buttons"], "buttons");
+    if (!(b >= 0 && b <= 15 && b == std::floor(b)))
+      throw config_error(file, body["buttons"], "'buttons' is a bit mask of the Omni's buttons, a whole number 0..15");
+    a.buttons = unsigned(b);
+  }
   if (const std::string p = haptic::problem(a); !p.empty()) throw config_error(file, item, kind + ": " + p);
   return a;
 }

@@ -19,6 +19,7 @@ Frame SimulatedOmni::read_frame() {
   f.time_s = time_;
   f.position = reported_;
   f.velocity = velocity_;
+  f.buttons = user_.buttons();
   return f;
 }
 

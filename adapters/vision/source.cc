@@ -151,9 +151,10 @@ std::unique_ptr<Source> open_v4l2(const std::string& device, int width, int heig
 }
 
 SyntheticSource::SyntheticSource(const SyntheticCamera& camera, const Conditions& conditions, double rate_hz,
-                                 std::uint64_t frames)
-    : camera_(camera), conditions_(conditions), rate_hz_(rate_hz), frames_(frames) {
+                                 std::uint64_t frames, const Orbit& path)
+    : camera_(camera), conditions_(conditions), rate_hz_(rate_hz), frames_(frames), path_(path) {
   if (!(rate_hz > 0 && rate_hz <= 1e4)) throw std::invalid_argument("synthetic camera: rate must be in (0, 1e4] Hz");
+  check(path);
 }
 
 bool SyntheticSource::next(Frame& f) {
@@ -175,6 +176,6 @@ std::string SyntheticSource::describe() const {
 
 bool SyntheticSource::rewind() { return next_ = 0, true; }
 
-Eigen::Isometry3d SyntheticSource::truth(std::uint64_t index) const { return orbit(double(index) / rate_hz_); }
+Eigen::Isometry3d SyntheticSource::truth(std::uint64_t index) const { return orbit(double(index) / rate_hz_, path_); }
 
 }  // namespace hcosim::vision

@@ -50,13 +50,13 @@ std::unique_ptr<Source> open_path(const std::string& path);
 // opened (missing, no permission, busy) or when it delivers no frame.
 std::unique_ptr<Source> open_v4l2(const std::string& device, int width, int height, double fps);
 
-// The synthetic camera moving along orbit(): frame i at time i / rate_hz.
-// Endless when frames is 0.
+// The synthetic camera moving along orbit(t, path): frame i at time
+// i / rate_hz. Endless when frames is 0.
 class SyntheticSource : public Source {
  public:
-  // Throws std::invalid_argument for a rate <= 0.
+  // Throws std::invalid_argument for a rate <= 0 or a bad path.
   SyntheticSource(const SyntheticCamera& camera, const Conditions& conditions, double rate_hz,
-                  std::uint64_t frames = 0);
+                  std::uint64_t frames = 0, const Orbit& path = {});
   bool next(Frame& f) override;
   std::string describe() const override;
   bool rewind() override;
@@ -70,6 +70,7 @@ class SyntheticSource : public Source {
   Conditions conditions_;
   double rate_hz_;
   std::uint64_t frames_, next_ = 0;
+  Orbit path_;
 };
 
 }  // namespace hcosim::vision

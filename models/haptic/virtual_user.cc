@@ -54,8 +54,9 @@ void VirtualUser::advance() {
 }
 
 Eigen::Vector3d VirtualUser::next(const Eigen::Vector3d& rendered) {
-  if (done()) return target_;
+  if (done()) return buttons_ = 0, target_;
   const Action& a = script_.actions[index_];
+  buttons_ = a.buttons;
   if (elapsed_ == 0 && (a.kind == Action::Kind::press || a.kind == Action::Kind::tap)) press_origin_ = target_;
   elapsed_ += dt_;
   // Straight toward `goal` at the action's speed; true on arrival.

@@ -22,6 +22,7 @@ struct Action {
                         // or after kMaxPressTravel if nothing pushes back
   double speed = 0.02;  // move_to, press, stroke, release: m/s
   double duration = 0;  // hold, tap: s
+  unsigned buttons = 0; // bit i: button i held while the action runs (button 0 grabs a deformable object)
   int line = 0;         // script line, for messages
 };
 
@@ -51,6 +52,8 @@ class VirtualUser {
   Eigen::Vector3d next(const Eigen::Vector3d& rendered_force);
 
   bool done() const { return index_ >= script_.actions.size(); }
+  // The buttons held by the action that set the latest target.
+  unsigned buttons() const { return buttons_; }
   std::size_t action() const { return index_; }  // index of the running action
   const Script& script() const { return script_; }
 
@@ -60,6 +63,7 @@ class VirtualUser {
   Script script_;
   double dt_;
   std::size_t index_ = 0;
+  unsigned buttons_ = 0;
   double elapsed_ = 0;                 // s in the running action
   Eigen::Vector3d target_;
   Eigen::Vector3d from_;               // target when the running action began

@@ -1,5 +1,6 @@
 #include "vision/synthetic.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -162,12 +163,47 @@ std::vector<Eigen::Isometry3d> random_poses(const Intrinsics& k, double tag_size
   return out;
 }
 
-Eigen::Isometry3d orbit(double t) {
-  const double pi = std::acos(-1.0), phase = 2 * pi * t / 20;
-  Eigen::Isometry3d p = facing(0.35 + 0.1 * std::sin(phase));
-  const double tilt = 30 * pi / 180 * std::sin(0.5 * phase);
+void check(const Orbit& o) {
+  if (!(o.distance > 0 && o.distance <= 100)) throw std::invalid_argument("orbit: distance must be in (0, 100] m");
+  if (!(o.swing >= 0 && o.swing < o.distance)) throw std::invalid_argument("orbit: swing must be in [0, distance)");
+  if (!(o.tilt_deg >= 0 && o.base_tilt_deg >= 0 && o.base_tilt_deg + o.tilt_deg < 80))
+    throw std::invalid_argument("orbit: tilt_deg and base_tilt_deg must be >= 0 with a sum under 80 degrees");
+  if (!(o.period > 0 && o.period <= 1e6)) throw std::invalid_argument("orbit: period must be in (0, 1e6] s");
+  if (!(o.sweep_deg >= 0 && o.sweep_deg < 180)) throw std::invalid_argument("orbit: sweep_deg must be in [0, 180)");
+}
+
+Eigen::Isometry3d orbit(double t, const Orbit& o) {
+  const double pi = std::acos(-1.0), phase = 2 * pi * t / o.period;
+  const double d = o.distance + o.swing * std::sin(phase);
+  const double tilt = (o.base_tilt_deg + o.tilt_deg * std::sin(0.5 * phase)) * pi / 180;
+  if (o.upright) {
+    // Look-at from the camera's place, image up toward the tag's +z
+    // (OpenCV camera: x right, y down, z forward).
+    const double azimuth = (-90 + o.sweep_deg * std::sin(phase)) * pi / 180;
+    const Eigen::Vector3d c =
+        d * Eigen::Vector3d(std::sin(tilt) * std::cos(azimuth), std::sin(tilt) * std::sin(azimuth), std::cos(tilt));
+    const Eigen::Vector3d forward = -c.normalized();
+    // Straight down (tilt 0) the image's up is the tag's +y instead.
+    const Eigen::Vector3d up = tilt > 1e-6 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitY();
+    const Eigen::Vector3d right = forward.cross(up).normalized(), down = forward.cross(right);
+    Eigen::Matrix3d camera_in_tag;
+    camera_in_tag << right, down, forward;
+    Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+    p.linear() = camera_in_tag.transpose();
+    p.translation() = -camera_in_tag.transpose() * c;
+    return p;
+  }
+  Eigen::Isometry3d p = facing(d);
   p.linear() = kFacing * Eigen::AngleAxisd(tilt, Eigen::Vector3d(std::cos(phase), std::sin(phase), 0)).toRotationMatrix();
   return p;
+}
+
+double registration_error_px(const Intrinsics& k, const Eigen::Isometry3d& estimated, const Eigen::Isometry3d& truth,
+                             const std::vector<Eigen::Vector3d>& points) {
+  double worst = 0;
+  for (const Eigen::Vector3d& p : points)
+    worst = std::max(worst, (project(k, estimated, p) - project(k, truth, p)).norm());
+  return worst;
 }
 
 }  // namespace hcosim::vision

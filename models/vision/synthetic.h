@@ -71,8 +71,35 @@ std::vector<Eigen::Isometry3d> random_poses(const Intrinsics& k, double tag_size
 // The tag facing the camera at `distance` m, upright in the image.
 Eigen::Isometry3d facing(double distance);
 
-// A slow, smooth camera motion for the live synthetic source, at time t
-// (s): distance 0.25..0.45 m, tilt up to 30 degrees, one cycle in 20 s.
-Eigen::Isometry3d orbit(double t);
+// A slow, smooth camera motion for the live synthetic source, aimed at the
+// tag's centre. The default is the tracker's test motion: distance
+// 0.25..0.45 m, tilt up to 30 degrees about an axis turning once in 20 s.
+// An AR scene wants what a person at the table sees: `upright`, the
+// camera on the tag's -y side with the image's up toward the tag's +z,
+// swaying `sweep_deg` around it, seen from a base tilt.
+struct Orbit {
+  double distance = 0.35;    // m, mean distance to the tag's centre, > 0
+  double swing = 0.1;        // m, amplitude of the distance, < distance
+  double tilt_deg = 30;      // degrees, amplitude of the tilt added to base_tilt_deg
+  double base_tilt_deg = 0;  // degrees; base + amplitude < 80
+  double period = 20;        // s, > 0
+  bool upright = false;
+  double sweep_deg = 0;      // upright: degrees of sway about the tag's normal, < 180
+};
+
+// Throws std::invalid_argument naming the first bad field.
+void check(const Orbit& o);
+
+// The tag in the camera at time t (s), phase = 2 pi t / period: distance
+// d + swing sin(phase), tilt (from the tag's normal) base + amplitude
+// sin(phase / 2). Not upright: about an axis in the tag plane at angle
+// phase. Upright: the camera at azimuth -90 + sweep sin(phase) degrees.
+Eigen::Isometry3d orbit(double t, const Orbit& o = {});
+
+// The largest distance (px) between where `points` (tag frame, m) appear
+// under an estimated and the true pose of the tag in the camera: how far
+// virtual objects at those points are drawn from where they belong.
+double registration_error_px(const Intrinsics& k, const Eigen::Isometry3d& estimated, const Eigen::Isometry3d& truth,
+                             const std::vector<Eigen::Vector3d>& points);
 
 }  // namespace hcosim::vision

@@ -38,7 +38,7 @@ std::unique_ptr<deformable::Object> make_object(const Params& o, const std::stri
   const auto c = o.vec3("centre", {0, 0, model == "hybrid" ? 0.05 : 0});
   if (model == "hybrid") {
     o.allow_only({"name", "model", "centre", "size", "elements", "stiff_ratio", "map", "keep", "behavior_rate",
-                  "visual_subdivisions"});
+                  "visual_subdivisions", "rounding"});
     deformable::HybridSpec s;
     s.centre = {c[0], c[1], c[2]};
     s.size = o.number("size", s.size, 0.01, 2);
@@ -48,6 +48,7 @@ std::unique_ptr<deformable::Object> make_object(const Params& o, const std::stri
     s.keep = o.number("keep", s.keep, 0.5, 1);
     s.behavior.dt = 1 / o.number("behavior_rate", 1000, 10, 10000);
     s.visual_subdivisions = int(o.number("visual_subdivisions", s.visual_subdivisions, 1, 300));
+    s.visual_exponent = o.number("rounding", s.visual_exponent, 2, 64);
     std::printf("%s: hybrid, %d^3 chains and masses, %d visual vertices by %s; building the map\n", name.c_str(),
                 s.elements, 6 * s.visual_subdivisions * s.visual_subdivisions + 2, deformable::name(s.map));
     std::fflush(stdout);

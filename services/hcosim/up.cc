@@ -260,7 +260,7 @@ int up(const std::vector<std::string>& argv) {
     s << d.step_s;
     return std::vector<std::string>{"--name", name, "--domain", std::to_string(d.domain), "--mode",
                                     rt::to_string(d.mode), "--rate", r.str(), "--step", s.str(),
-                                    "--deployment", file};
+                                    "--deployment", file, "--out", fs::absolute(out).string()};
   };
   std::vector<Child> children;
   for (const auto& s : d.services) {

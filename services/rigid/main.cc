@@ -1,8 +1,8 @@
 // hcosim_rigid: the rigid body service (seed 000 §2.1). Every physics tick
 // it takes the latest HapticState of its device, drives the stylus tip
 // with it, steps the scene (the analytic model, MuJoCo, or both side by
-// side in crosscheck mode), answers with one ForceFeedback from the
-// god-object proxies of all bodies, and publishes each body's
+// side in crosscheck mode), answers with one ForceFeedback per body from
+// its god-object proxy, and publishes each body's
 // RigidBodyState; in crosscheck mode also each body's RigidDivergence.
 // Params: docs/rigid.md.
 #include <algorithm>
@@ -119,6 +119,7 @@ int run(int argc, char** argv) {
   Writer<RigidBodyState> states(svc.participant());
   Writer<RigidDivergence> divergences(svc.participant());
   std::vector<rigid::Proxy> proxies(items.size());
+  std::vector<device::Feel> feels(items.size());
   Window step_us(1 << 16);
   HapticState latest;
   bool have = false;
@@ -131,23 +132,26 @@ int run(int argc, char** argv) {
       if (s.device().to_string() == device) latest = s, have = true, state_time = now;
     });
     const std::int64_t t0 = mono_ns();
-    device::Feel feel;
     if (have) {
-      // The god-object proxies of every body, summed and clamped as one
-      // source. The tip that touches the scene is the deepest proxy, not
-      // the HIP: a HIP pushed into a body must not place the tip inside it
-      // (MuJoCo would answer with a huge soft-contact force).
+      // Each body's god-object proxy answers as its own source. The tip
+      // that touches the scene is the deepest proxy, not the HIP: a HIP
+      // pushed into a body must not place the tip inside it (MuJoCo would
+      // answer with a huge soft-contact force).
       const Eigen::Vector3d h = device::from_idl(latest.position());
       tip.x = h;
+      double deepest = 0;
       for (std::size_t i = 0; i < items.size(); ++i) {
+        device::Feel& f = feels[i];
+        f = device::Feel{};
         const Eigen::Vector3d proxy = proxies[i].update(body(i), spec.tip_radius, h);
         if (!proxies[i].in_contact()) continue;
-        feel.force += stiffness * (proxy - h);
-        if (!feel.in_contact || (proxy - h).norm() > feel.depth) feel.depth = (proxy - h).norm(), tip.x = proxy;
-        feel.in_contact = true;
+        f.in_contact = true;
+        f.force = stiffness * (proxy - h);
+        if (f.force.norm() > max_force) f.force *= max_force / f.force.norm();
+        f.depth = (proxy - h).norm();
+        f.stiffness = stiffness;
+        if (f.depth > deepest) deepest = f.depth, tip.x = proxy;
       }
-      if (feel.force.norm() > max_force) feel.force *= max_force / feel.force.norm();
-      feel.stiffness = feel.in_contact ? stiffness : 0;
       tip.v = now - state_time <= kStaleState ? device::from_idl(latest.velocity()) : Eigen::Vector3d::Zero();
       set_tip(tip);
     }
@@ -156,10 +160,14 @@ int run(int argc, char** argv) {
       for (int k = 0; k < substeps; ++k) mujoco->step();
     const StepStamp stamp = svc.stamp(tick);
     if (have) {
-      contact_ticks += feel.in_contact;
-      felt = std::max(felt, feel.force.norm());
-      ForceFeedback f = device::force_feedback(svc.options().name, device, latest.seq(), stamp, feel);
-      force.write(f);
+      bool touching = false;
+      for (std::size_t i = 0; i < items.size(); ++i) {
+        touching = touching || feels[i].in_contact;
+        felt = std::max(felt, feels[i].force.norm());
+        ForceFeedback f = device::force_feedback(items[i].name, device, latest.seq(), stamp, feels[i]);
+        force.write(f);
+      }
+      contact_ticks += touching;
     }
     step_us.add((mono_ns() - t0) * 1e-3);
     for (std::size_t i = 0; i < items.size(); ++i) {

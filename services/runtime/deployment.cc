@@ -83,7 +83,8 @@ Scene parse_scene(const std::string& file, const YAML::Node& node) {
 // The scene's part for one service, added to its params unless they give
 // their own: deformable and rigid services get the scene's objects of
 // their kind (as `objects` and `bodies`), the tracker the camera and the
-// marker. A service with nothing to serve is marked unneeded.
+// marker, the AR view every object (kind kept) and the marker's id. A
+// service with nothing to serve is marked unneeded.
 void add_scene(const std::string& file, const Scene& scene, ServiceSpec& s, const YAML::Node& entry) {
   for (std::size_t i = 0; i < s.objects.size(); ++i) {
     bool found = false;
@@ -94,15 +95,16 @@ void add_scene(const std::string& file, const Scene& scene, ServiceSpec& s, cons
   // place in the file for errors about it.
   YAML::Node params = s.params;
   const bool own_params = params.size() > 0;
+  // kind "": every object, each keeping its kind.
   const auto objects_of = [&](const std::string& kind) {
     YAML::Node list(YAML::NodeType::Sequence);
     for (const YAML::Node& o : scene.objects) {
       const std::string name = o["name"].Scalar();
-      if (o["kind"].Scalar() != kind) continue;
+      if (!kind.empty() && o["kind"].Scalar() != kind) continue;
       if (!s.objects.empty() && std::find(s.objects.begin(), s.objects.end(), name) == s.objects.end()) continue;
       YAML::Node copy(YAML::NodeType::Map);
       for (const auto& kv : o)
-        if (kv.first.Scalar() != "kind") copy[kv.first.Scalar()] = kv.second;
+        if (kv.first.Scalar() != "kind" || kind.empty()) copy[kv.first.Scalar()] = kv.second;
       list.push_back(copy);
     }
     return list;
@@ -124,6 +126,10 @@ void add_scene(const std::string& file, const Scene& scene, ServiceSpec& s, cons
       for (const auto& [from, to] : keys)
         if (scene.marker[from] && !params[to]) params[to] = scene.marker[from];
     }
+    if (!scene.camera.IsMap() && !own_params && scene.defined) s.unneeded = "the scene has no camera";
+  } else if (s.kind == "ar_view") {
+    if (!params["objects"]) params["objects"] = objects_of("");
+    if (scene.marker.IsMap() && scene.marker["id"] && !params["tag_id"]) params["tag_id"] = scene.marker["id"];
     if (!scene.camera.IsMap() && !own_params && scene.defined) s.unneeded = "the scene has no camera";
   }
   if (!s.objects.empty() && s.kind != "deformable" && s.kind != "rigid")
@@ -252,6 +258,28 @@ std::vector<Params> Params::list(const std::string& key) const {
   for (const YAML::Node& item : n) {
     if (!item.IsMap()) throw config_error(file_, item, "each entry of '" + key + "' must be a map of keys");
     out.emplace_back(file_, item);
+  }
+  return out;
+}
+
+Params Params::map(const std::string& key) const {
+  if (!node_ || !node_[key]) return Params(file_, YAML::Node(YAML::NodeType::Map));
+  const YAML::Node n = node_[key];
+  if (!n.IsMap()) throw config_error(file_, n, "'" + key + "' must be a map of keys");
+  return Params(file_, n);
+}
+
+std::vector<double> Params::numbers(const std::string& key, double lo, double hi) const {
+  std::vector<double> out;
+  if (!node_ || !node_[key]) return out;
+  const YAML::Node n = node_[key];
+  if (!n.IsSequence()) throw config_error(file_, n, "'" + key + "' must be a list of numbers");
+  for (const YAML::Node& item : n) {
+    const double v = config_number(file_, item, key);
+    if (v < lo || v > hi)
+      throw config_error(file_, item, "an entry of '" + key + "', " + item.Scalar() + ", is outside [" +
+                                          std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    out.push_back(v);
   }
   return out;
 }

@@ -95,6 +95,11 @@ class Params {
   // The maps of the list at `key`, each read as Params of its own; empty
   // when absent. Throws unless it is a list of maps.
   std::vector<Params> list(const std::string& key) const;
+  // The map at `key` read as Params of its own (empty when absent).
+  // Throws unless it is a map.
+  Params map(const std::string& key) const;
+  // The numbers of the list at `key`, each in [lo, hi]; empty when absent.
+  std::vector<double> numbers(const std::string& key, double lo, double hi) const;
   // Throws a ConfigError at this node naming `what`.
   [[noreturn]] void fail(const std::string& key, const std::string& what) const;
   // Throws if a key outside `allowed` is present.

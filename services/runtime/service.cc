@@ -92,6 +92,7 @@ Options parse_options(int argc, char** argv) {
     else if (flag == "--duration") o.duration_s = value_of(flag, v);
     else if (flag == "--qos") o.qos_file = v;
     else if (flag == "--deployment") o.deployment = v;
+    else if (flag == "--out") o.out = v;
     else throw std::invalid_argument("unknown option " + flag);
   }
   if (o.name.empty() || o.name.size() > 31) throw std::invalid_argument("--name NAME (1 to 31 characters) is required");

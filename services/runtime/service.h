@@ -26,6 +26,7 @@ struct Options {
   double duration_s = 0;      // --duration: s; 0 = until stopped (realtime only)
   std::string qos_file;       // --qos (default: default_qos_file())
   std::string deployment;     // --deployment: file holding this service's params
+  std::string out = "out";    // --out: folder for the files a service writes (videos, plots)
 };
 
 // Parses argv; throws std::invalid_argument with a usage message on error.
@@ -48,9 +49,10 @@ class Service {
   Writer<T> writer(const std::string& profile = TopicOf<T>::qos) {
     return Writer<T>(participant_, profile);
   }
+  // `depth` > 0 keeps that many samples per instance (see Reader).
   template <class T>
-  Reader<T> reader(const std::string& profile = TopicOf<T>::qos) {
-    return Reader<T>(participant_, [](const T& s) { return validate(s); }, &rejections_, profile);
+  Reader<T> reader(const std::string& profile = TopicOf<T>::qos, int depth = 0) {
+    return Reader<T>(participant_, [](const T& s) { return validate(s); }, &rejections_, profile, depth);
   }
 
   // The admissible samples of `r` for this step: in real time all that

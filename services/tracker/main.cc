@@ -42,13 +42,26 @@ vision::TrackerParams tracker_params(const Params& p) {
   return t;
 }
 
+vision::Orbit orbit_params(const Params& p) {
+  p.allow_only({"distance", "swing", "tilt", "base_tilt", "period", "upright", "sweep"});
+  vision::Orbit o;
+  o.distance = p.number("distance", o.distance, 0.05, 100);
+  o.swing = p.number("swing", o.swing, 0, 0.9 * o.distance);
+  o.tilt_deg = p.number("tilt", o.tilt_deg, 0, 79);
+  o.base_tilt_deg = p.number("base_tilt", o.base_tilt_deg, 0, 79 - o.tilt_deg);
+  o.period = p.number("period", o.period, 0.1, 1e6);
+  o.upright = p.text("upright", "off", {"on", "off"}) == "on";
+  o.sweep_deg = p.number("sweep", o.sweep_deg, 0, 179);
+  return o;
+}
+
 int run(int argc, char** argv) {
   Service svc(parse_options(argc, argv));
   const Params& p = svc.params();
   const std::string& name = svc.options().name;
   p.allow_only({"source", "path", "device", "camera", "width", "height", "condition", "tag_id", "family", "tag_size",
                 "quad_decimate", "quad_sigma", "nthreads", "refine_edges", "decode_sharpening", "max_hamming",
-                "refine_corners", "refine_pose", "frames", "loop"});
+                "refine_corners", "refine_pose", "frames", "loop", "sheet", "orbit"});
   const std::string kind = p.text("source", "synthetic", {"synthetic", "folder", "video", "v4l2"});
   const vision::TrackerParams tp = tracker_params(p);
   const bool publish_frames = on(p, "frames", true), loop = on(p, "loop", false);
@@ -58,6 +71,7 @@ int run(int argc, char** argv) {
   // The source, and the intrinsics its frames were taken with.
   std::unique_ptr<vision::Source> source;
   vision::SyntheticSource* synthetic = nullptr;
+  std::vector<Eigen::Vector3d> scene;  // synthetic: where registration is measured, tag frame, m
   vision::Intrinsics k;
   if (kind != "synthetic" && camera_file.empty())
     p.fail("camera", "source '" + kind + "' needs camera: an intrinsics file in OpenCV's calibration format");
@@ -67,11 +81,19 @@ int run(int argc, char** argv) {
     m.family = tp.detector.family;
     m.id = int(p.number("tag_id", 0, 0, 1e6));
     m.tag_size = tp.tag_size;
+    m.sheet = p.number("sheet", m.sheet, 1.25, 10);
+    const vision::Orbit path = orbit_params(p.map("orbit"));
     if (camera_file.empty()) k = vision::synthetic_intrinsics(width, height);
     k = vision::with_frame_size(k, width, height, camera_file);
     auto s = std::make_unique<vision::SyntheticSource>(vision::SyntheticCamera(k, m),
                                                        vision::condition(p.text("condition", "clean", {"clean", "noisy", "blurred"})),
-                                                       svc.options().rate_hz);
+                                                       svc.options().rate_hz, 0, path);
+    // The sheet's corners on the table and half its edge above it: where
+    // the scene's objects stand.
+    const double h = 0.5 * m.sheet * m.tag_size;
+    for (double z : {0.0, h})
+      for (double x : {-h, h})
+        for (double y : {-h, h}) scene.emplace_back(x, y, z);
     synthetic = s.get();
     source = std::move(s);
   } else if (kind == "v4l2") {
@@ -88,7 +110,7 @@ int run(int argc, char** argv) {
   Writer<MarkerPose> poses(svc.participant());
   Writer<CameraFrame> frames(svc.participant());
   std::unique_ptr<vision::Tracker> tracker;
-  Window read_ms(1 << 16), track_ms(1 << 16), trans_pct(1 << 16), rot_deg(1 << 16);
+  Window read_ms(1 << 16), track_ms(1 << 16), trans_pct(1 << 16), rot_deg(1 << 16), reg_px(1 << 16);
   std::uint64_t n_frames = 0, with_tag = 0, detections = 0, refused = 0, unreadable = 0, skipped = 0;
   bool ended = false;
   const int status = svc.run([&](const Tick& tick) {
@@ -139,6 +161,7 @@ int run(int argc, char** argv) {
         trans_pct.add(100 * (o.pose.tag_in_camera.translation() - truth.translation()).norm() /
                       truth.translation().norm());
         rot_deg.add(vision::angle_between(o.pose.tag_in_camera.linear(), truth.linear()) * 180 / M_PI);
+        reg_px.add(vision::registration_error_px(k, o.pose.tag_in_camera, truth, scene));
       }
       if (poses.matched() == 0)
         svc.skip_output();
@@ -165,6 +188,10 @@ int run(int argc, char** argv) {
                 "error p50 %.3f deg p95 %.3f deg\n",
                 name.c_str(), trans_pct.percentile(0.5), trans_pct.percentile(0.95), rot_deg.percentile(0.5),
                 rot_deg.percentile(0.95));
+  if (synthetic && reg_px.size())
+    std::printf("%s: registration error (the sheet's corners and half its edge above them) p50 %.2f px p95 %.2f px "
+                "max %.2f px\n",
+                name.c_str(), reg_px.percentile(0.5), reg_px.percentile(0.95), reg_px.percentile(1));
   return status;
 }
 

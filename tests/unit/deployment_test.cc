@@ -116,5 +116,50 @@ TEST(Params, RangeAndChoiceErrorsAreLocated) {
   EXPECT_NO_THROW(p.allow_only({"gain", "role"}));
 }
 
+TEST(Params, MapsAndNumberListsAreReadWithLocatedErrors) {
+  const std::string f = write_file("lists.yaml", "services:\n  - name: a\n    kind: b\n    rate: 5\n"
+                                                 "    params:\n      orbit: {distance: 0.3}\n      at: [1, 2.5]\n"
+                                                 "      bad: [1, x]\n      far: [1, 9]\n      flat: 3\n");
+  const Deployment d = load_deployment(f);
+  const Params p(f, d.services[0].params);
+  EXPECT_EQ(p.map("orbit").number("distance", 0, 0, 1), 0.3);
+  EXPECT_EQ(p.map("absent").number("distance", 0.5, 0, 1), 0.5);
+  EXPECT_EQ(p.numbers("at", 0, 5), (std::vector<double>{1, 2.5}));
+  EXPECT_TRUE(p.numbers("absent", 0, 5).empty());
+  const auto message = [&](auto f) {
+    try {
+      f();
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string bad = message([&] { p.numbers("bad", 0, 5); }), far = message([&] { p.numbers("far", 0, 5); });
+  EXPECT_NE(bad.find(":8:16: 'bad' must be a number"), std::string::npos) << bad;
+  EXPECT_NE(far.find(":9:16: an entry of 'far', 9, is outside"), std::string::npos) << far;
+  EXPECT_NE(message([&] { p.numbers("flat", 0, 5); }).find("'flat' must be a list of numbers"), std::string::npos);
+  EXPECT_NE(message([&] { p.map("flat"); }).find("'flat' must be a map of keys"), std::string::npos);
+}
+
+TEST(Deployment, TheArViewGetsEveryObjectAndTheMarker) {
+  const std::string f = write_file("ar.yaml",
+                                   "scene:\n  marker: {id: 7, size: 0.03}\n  camera: {source: synthetic}\n"
+                                   "  objects:\n    - {name: box, kind: rigid, shape: cube, size: 0.01}\n"
+                                   "    - {name: cube, kind: deformable, model: hybrid}\n"
+                                   "services:\n  - {name: view, kind: ar_view, rate: 25}\n");
+  const Deployment d = load_deployment(f);
+  const Params p(f, d.services[0].params);
+  EXPECT_TRUE(d.services[0].unneeded.empty());
+  EXPECT_EQ(p.number("tag_id", 0, 0, 100), 7);
+  const std::vector<Params> objects = p.list("objects");
+  ASSERT_EQ(objects.size(), 2u);
+  EXPECT_EQ(objects[0].string("kind", ""), "rigid");
+  EXPECT_EQ(objects[0].number("size", 0, 0, 1), 0.01);
+  EXPECT_EQ(objects[1].string("name", ""), "cube");
+  const Deployment no_camera = load_deployment(write_file(
+      "ar2.yaml", "scene:\n  objects: [{name: box, kind: rigid}]\nservices:\n  - {name: view, kind: ar_view, rate: 25}\n"));
+  EXPECT_EQ(no_camera.services[0].unneeded, "the scene has no camera");
+}
+
 }  // namespace
 }  // namespace hcosim::rt

@@ -151,6 +151,25 @@ TEST_F(ScriptFiles, ErrorsNameTheFileAndLine) {
   EXPECT_NE(error("actions:\n  - hold: {duration: fast}\n").find("bad.yaml:2:22: 'duration' must be a number, not 'fast'"),
             std::string::npos);
   EXPECT_NE(error("start: [0, 0\n").find("bad.yaml:"), std::string::npos);
+  const std::string buttons = error("actions:\n  - hold: {duration: 1, buttons: 1.5}\n");
+  EXPECT_NE(buttons.find("bad.yaml:2:34: 'buttons' is a bit mask"), std::string::npos) << buttons;
+}
+
+TEST_F(ScriptFiles, ButtonsAreHeldOnlyByTheirAction) {
+  const Script s = device::load_script(write("grab.yaml", R"(start: [0, 0, 0.02]
+actions:
+  - hold: {duration: 0.002}
+  - stroke: {by: [0, 0, 0.001], speed: 0.5, buttons: 1}
+  - hold: {duration: 0.002, buttons: 3}
+  - hold: {duration: 0.002}
+)"));
+  EXPECT_EQ(s.actions[1].buttons, 1u);
+  VirtualUser u(s, 0.001);
+  std::vector<unsigned> held;
+  while (!u.done()) u.next(Eigen::Vector3d::Zero()), held.push_back(u.buttons());
+  u.next(Eigen::Vector3d::Zero());
+  EXPECT_EQ(held, (std::vector<unsigned>{0, 0, 1, 1, 1, 3, 3, 0, 0}));  // the stroke: 2 ticks and its arrival
+  EXPECT_EQ(u.buttons(), 0u);  // done: nothing held
 }
 
 }  // namespace
