@@ -2,6 +2,10 @@
 
 #include <stdexcept>
 
+#include <opencv2/imgproc.hpp>
+
+#include "validate.h"
+
 namespace hcosim::vision {
 
 Transform to_idl(const Eigen::Isometry3d& pose) {
@@ -11,6 +15,15 @@ Transform to_idl(const Eigen::Isometry3d& pose) {
   t.position().x(p.x()), t.position().y(p.y()), t.position().z(p.z());
   t.orientation().w(q.w()), t.orientation().x(q.x()), t.orientation().y(q.y()), t.orientation().z(q.z());
   return t;
+}
+
+Eigen::Isometry3d from_idl(const Transform& t) {
+  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+  p.translation() = Eigen::Vector3d(t.position().x(), t.position().y(), t.position().z());
+  p.linear() = Eigen::Quaterniond(t.orientation().w(), t.orientation().x(), t.orientation().y(), t.orientation().z())
+                   .normalized()
+                   .toRotationMatrix();
+  return p;
 }
 
 MarkerPose marker_pose(const std::string& camera, const std::string& family, const StepStamp& stamp,
@@ -47,6 +60,27 @@ CameraFrame camera_frame(const std::string& camera, const StepStamp& stamp, std:
   f.data().resize(row * std::size_t(image.rows));
   for (int r = 0; r < image.rows; ++r) std::copy_n(image.ptr<std::uint8_t>(r), row, f.data().data() + row * std::size_t(r));
   return f;
+}
+
+cv::Mat bgr_image(const CameraFrame& f) {
+  if (auto problem = validate(f)) throw std::invalid_argument("camera frame: " + *problem);
+  const bool mono = f.encoding().to_string() == "mono8";
+  const cv::Mat wrapped(int(f.height()), int(f.width()), mono ? CV_8UC1 : CV_8UC3, const_cast<std::uint8_t*>(f.data().data()));
+  cv::Mat bgr;
+  if (mono)
+    cv::cvtColor(wrapped, bgr, cv::COLOR_GRAY2BGR);
+  else
+    bgr = wrapped.clone();
+  return bgr;
+}
+
+Intrinsics intrinsics(const CameraFrame& f) {
+  Intrinsics k;
+  k.width = int(f.width()), k.height = int(f.height());
+  k.fx = f.fx(), k.fy = f.fy(), k.cx = f.cx(), k.cy = f.cy();
+  for (int i = 0; i < 5; ++i) k.distortion[std::size_t(i)] = f.distortion()[std::size_t(i)];
+  check(k);
+  return k;
 }
 
 }  // namespace hcosim::vision

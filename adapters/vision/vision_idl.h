@@ -1,5 +1,5 @@
-// Conversions from the tracker's results and frames to the MarkerPose and
-// CameraFrame topics.
+// Conversions between the tracker's results and frames and the MarkerPose
+// and CameraFrame topics.
 #pragma once
 
 #include <cstdint>
@@ -14,6 +14,8 @@
 namespace hcosim::vision {
 
 Transform to_idl(const Eigen::Isometry3d& pose);
+// The pose of a Transform (its quaternion normalised).
+Eigen::Isometry3d from_idl(const Transform& t);
 
 // Observation o of frame `frame` from camera `camera`, published
 // `latency_ms` after the frame was captured.
@@ -24,5 +26,10 @@ MarkerPose marker_pose(const std::string& camera, const std::string& family, con
 // std::invalid_argument for another type.
 CameraFrame camera_frame(const std::string& camera, const StepStamp& stamp, std::uint64_t frame,
                          const cv::Mat& image, const Intrinsics& k);
+
+// A frame's pixels as 8-bit BGR (mono8 converted) and its intrinsics.
+// Throws std::invalid_argument for a frame validate() would refuse.
+cv::Mat bgr_image(const CameraFrame& f);
+Intrinsics intrinsics(const CameraFrame& f);
 
 }  // namespace hcosim::vision

@@ -18,12 +18,14 @@
 #include "bench.h"
 #include "massspring/mujoco_lattice.h"
 #include "massspring/simulator.h"
-#include "plot.h"
+#include "render/plot.h"
 
 namespace hcosim::cli {
 namespace {
 
 namespace ms = hcosim::massspring;
+using render::plot_loglog;
+using render::Series;
 
 constexpr double kDuration = 0.2, kPress = 0.1, kSample = 0.02;  // s
 

@@ -38,6 +38,7 @@ int bench(const std::vector<std::string>& argv);
 int record(const std::vector<std::string>& argv);
 int track(const std::vector<std::string>& argv);
 int synth(const std::vector<std::string>& argv);
+int video(const std::vector<std::string>& argv);
 int export_recording(const std::vector<std::string>& argv);
 int replay(const std::vector<std::string>& argv);
 int bench_peer(const std::vector<std::string>& argv);  // hidden: the far end of dds round trips

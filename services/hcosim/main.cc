@@ -98,6 +98,8 @@ Commands:
         detection; with --truth, the errors against known poses
   synth --out DIR [--frames N] [--rate HZ] [--resolution WxH] [--condition C] [--video]
         write a synthetic marker sequence (PNG frames, camera.yaml, truth.jsonl)
+  video FILE
+        count a video's frames, and those that are blank (one flat colour)
 
 The domain defaults to $HCOSIM_DOMAIN, else 0. Topics: docs/topics.md.
 )";
@@ -121,6 +123,7 @@ int main(int argc, char** argv) {
     if (cmd == "record") return record(rest);
     if (cmd == "track") return track(rest);
     if (cmd == "synth") return synth(rest);
+    if (cmd == "video") return video(rest);
     if (cmd == "export") return export_recording(rest);
     if (cmd == "replay") return replay(rest);
     if (cmd == "bench-peer") return bench_peer(rest);

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 #include <yaml-cpp/yaml.h>
 
@@ -216,6 +217,35 @@ int synth(const std::vector<std::string>& argv) {
               "%s/truth.jsonl\n",
               dir.c_str(), dir.c_str(), m.tag_size, dir.c_str());
   return 0;
+}
+
+int video(const std::vector<std::string>& argv) {
+  const Args a = parse(argv, {}, {});
+  if (a.positional.size() != 1) throw std::invalid_argument("usage: hcosim video FILE");
+  const std::string path = a.positional[0];
+  if (!fs::is_regular_file(path)) throw std::runtime_error(path + ": no such file");
+  cv::VideoCapture cap(path, cv::CAP_FFMPEG);
+  if (!cap.isOpened()) cap.open(path);
+  if (!cap.isOpened()) throw std::runtime_error(path + ": OpenCV cannot read it as a video");
+  // A frame is blank when it is one flat colour: grey levels' standard
+  // deviation under 2 (an encoder's noise on a uniform frame stays below).
+  constexpr double kFlat = 2;
+  std::uint64_t frames = 0, blank = 0;
+  cv::Mat f, grey;
+  cv::Scalar mean, sd;
+  while (cap.read(f) && !f.empty()) {
+    ++frames;
+    if (f.channels() == 3)
+      cv::cvtColor(f, grey, cv::COLOR_BGR2GRAY);
+    else
+      grey = f;
+    cv::meanStdDev(grey, mean, sd);
+    blank += sd[0] < kFlat;
+  }
+  std::printf("%s: %llu frames, %dx%d at %.3g fps, %llu blank, %llu not blank\n", path.c_str(),
+              (unsigned long long)frames, int(cap.get(cv::CAP_PROP_FRAME_WIDTH)), int(cap.get(cv::CAP_PROP_FRAME_HEIGHT)),
+              cap.get(cv::CAP_PROP_FPS), (unsigned long long)blank, (unsigned long long)(frames - blank));
+  return frames ? 0 : 1;
 }
 
 }  // namespace hcosim::cli

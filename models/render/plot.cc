@@ -1,0 +1,147 @@
+#include "render/plot.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace hcosim::render {
+namespace {
+
+// Tableau-like colours (BGR).
+const cv::Scalar kPalette[] = {{180, 119, 31}, {14, 127, 255}, {44, 160, 44}, {40, 39, 214},
+                               {189, 103, 148}, {75, 86, 140}, {194, 119, 227}, {34, 189, 188}};
+const cv::Scalar kInk(40, 40, 40), kGrid(225, 225, 225);
+constexpr auto kFont = cv::FONT_HERSHEY_SIMPLEX;
+
+// A step of 1, 2 or 5 times a power of ten giving about `n` ticks over span.
+double tick_step(double span, int n) {
+  const double raw = span / n, p = std::pow(10.0, std::floor(std::log10(raw)));
+  for (double m : {1.0, 2.0, 5.0})
+    if (m * p >= raw) return m * p;
+  return 10 * p;
+}
+
+std::string tick_label(double v, double step) {
+  const int digits = std::max(0, -int(std::floor(std::log10(step) + 1e-9)));
+  return cv::format("%.*f", digits, std::abs(v) < 1e-12 * step ? 0.0 : v);
+}
+
+}  // namespace
+
+void plot_loglog(const std::string& path, const std::string& title, const std::string& x_label,
+                 const std::string& y_label, const std::vector<Series>& series) {
+  const int w = 1000, h = 700, left = 90, right = 220, top = 50, bottom = 70;
+  cv::Mat img(h, w, CV_8UC3, cv::Scalar(255, 255, 255));
+  double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+  auto ok = [](double v) { return std::isfinite(v) && v > 0; };
+  for (const Series& s : series)
+    for (std::size_t i = 0; i < s.x.size(); ++i)
+      if (ok(s.x[i]) && ok(s.y[i])) {
+        x0 = std::min(x0, std::log10(s.x[i])), x1 = std::max(x1, std::log10(s.x[i]));
+        y0 = std::min(y0, std::log10(s.y[i])), y1 = std::max(y1, std::log10(s.y[i]));
+      }
+  if (!std::isfinite(x0)) throw std::runtime_error("plot " + path + ": no positive points");
+  // Whole decades around the data.
+  x0 = std::floor(x0), x1 = std::max(std::ceil(x1), x0 + 1), y0 = std::floor(y0), y1 = std::max(std::ceil(y1), y0 + 1);
+  auto px = [&](double v) { return left + int((std::log10(v) - x0) / (x1 - x0) * (w - left - right)); };
+  auto py = [&](double v) { return h - bottom - int((std::log10(v) - y0) / (y1 - y0) * (h - top - bottom)); };
+  for (int d = int(x0); d <= int(x1); ++d) {
+    const int x = px(std::pow(10.0, d));
+    cv::line(img, {x, top}, {x, h - bottom}, kGrid);
+    cv::putText(img, "1e" + std::to_string(d), {x - 18, h - bottom + 22}, kFont, 0.5, kInk, 1, cv::LINE_AA);
+  }
+  for (int d = int(y0); d <= int(y1); ++d) {
+    const int y = py(std::pow(10.0, d));
+    cv::line(img, {left, y}, {w - right, y}, kGrid);
+    cv::putText(img, "1e" + std::to_string(d), {left - 50, y + 5}, kFont, 0.5, kInk, 1, cv::LINE_AA);
+  }
+  cv::rectangle(img, {left, top}, {w - right, h - bottom}, kInk);
+  cv::putText(img, title, {left, 24}, kFont, 0.65, kInk, 1, cv::LINE_AA);
+  cv::putText(img, x_label, {left + (w - left - right) / 2 - 80, h - 20}, kFont, 0.55, kInk, 1, cv::LINE_AA);
+  cv::putText(img, y_label, {10, top - 8}, kFont, 0.5, kInk, 1, cv::LINE_AA);
+  // MuJoCo, the baseline, in black and greys.
+  int baselines = 0;
+  for (std::size_t k = 0; k < series.size(); ++k) {
+    const Series& s = series[k];
+    const double grey = 110.0 * baselines;
+    const cv::Scalar c = s.label.rfind("mujoco", 0) == 0 ? (++baselines, cv::Scalar(grey, grey, grey)) : kPalette[k % 8];
+    for (std::size_t i = 0; i < s.x.size(); ++i)
+      if (ok(s.x[i]) && ok(s.y[i])) cv::circle(img, {px(s.x[i]), py(s.y[i])}, 5, c, cv::FILLED, cv::LINE_AA);
+    const int ly = top + 20 + 24 * int(k);
+    cv::circle(img, {w - right + 20, ly - 5}, 5, c, cv::FILLED, cv::LINE_AA);
+    cv::putText(img, s.label, {w - right + 32, ly}, kFont, 0.45, kInk, 1, cv::LINE_AA);
+  }
+  if (!cv::imwrite(path, img)) throw std::runtime_error("plot: cannot write " + path);
+}
+
+void plot_series(const std::string& path, const std::string& title, const std::string& x_label,
+                 const std::vector<Panel>& panels) {
+  if (panels.empty()) throw std::invalid_argument("plot " + path + ": no panels");
+  const int w = 1000, left = 90, right = 200, top = 50, bottom = 60, panel_h = 260, gap = 30;
+  const int h = top + bottom + int(panels.size()) * panel_h + int(panels.size() - 1) * gap;
+  cv::Mat img(h, w, CV_8UC3, cv::Scalar(255, 255, 255));
+  double x0 = INFINITY, x1 = -INFINITY;
+  for (const Panel& p : panels)
+    for (const Series& s : p.series)
+      for (double x : s.x)
+        if (std::isfinite(x)) x0 = std::min(x0, x), x1 = std::max(x1, x);
+  if (!std::isfinite(x0)) x0 = 0, x1 = 1;
+  if (x1 <= x0) x1 = x0 + 1;
+  const double xs = tick_step(x1 - x0, 10);
+  x0 = std::floor(x0 / xs) * xs, x1 = std::ceil(x1 / xs) * xs;
+  const auto px = [&](double v) { return left + int(std::lround((v - x0) / (x1 - x0) * (w - left - right))); };
+  cv::putText(img, title, {left, 28}, kFont, 0.65, kInk, 1, cv::LINE_AA);
+  for (std::size_t k = 0; k < panels.size(); ++k) {
+    const Panel& p = panels[k];
+    const int y_top = top + int(k) * (panel_h + gap), y_bottom = y_top + panel_h;
+    double y0 = INFINITY, y1 = -INFINITY;
+    for (const Series& s : p.series)
+      for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i)
+        if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) y0 = std::min(y0, s.y[i]), y1 = std::max(y1, s.y[i]);
+    if (!std::isfinite(y0)) y0 = 0, y1 = 1;
+    // Zero stays in view: forces and depths read against it.
+    y0 = std::min(y0, 0.0), y1 = std::max(y1, 0.0);
+    if (y1 - y0 < 1e-12) y1 = y0 + 1;
+    const double ys = tick_step(y1 - y0, 5);
+    y0 = std::floor(y0 / ys) * ys, y1 = std::ceil(y1 / ys) * ys;
+    const auto py = [&](double v) { return y_bottom - int(std::lround((v - y0) / (y1 - y0) * panel_h)); };
+    for (double v = x0; v <= x1 + 1e-9 * xs; v += xs) {
+      cv::line(img, {px(v), y_top}, {px(v), y_bottom}, kGrid);
+      if (k + 1 == panels.size())
+        cv::putText(img, tick_label(v, xs), {px(v) - 12, y_bottom + 20}, kFont, 0.45, kInk, 1, cv::LINE_AA);
+    }
+    for (double v = y0; v <= y1 + 1e-9 * ys; v += ys) {
+      cv::line(img, {left, py(v)}, {w - right, py(v)}, kGrid);
+      cv::putText(img, tick_label(v, ys), {left - 60, py(v) + 5}, kFont, 0.45, kInk, 1, cv::LINE_AA);
+    }
+    cv::rectangle(img, {left, y_top}, {w - right, y_bottom}, kInk);
+    cv::putText(img, p.y_label, {left, y_top - 8}, kFont, 0.5, kInk, 1, cv::LINE_AA);
+    for (std::size_t j = 0; j < p.series.size(); ++j) {
+      const Series& s = p.series[j];
+      const cv::Scalar c = kPalette[j % 8];
+      std::vector<cv::Point> line;
+      const auto flush = [&] {
+        if (line.size() > 1) cv::polylines(img, line, false, c, 2, cv::LINE_AA);
+        if (line.size() == 1) cv::circle(img, line[0], 2, c, cv::FILLED, cv::LINE_AA);
+        line.clear();
+      };
+      for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
+        if (std::isfinite(s.x[i]) && std::isfinite(s.y[i]))
+          line.emplace_back(px(s.x[i]), py(s.y[i]));
+        else
+          flush();
+      }
+      flush();
+      const int ly = y_top + 20 + 22 * int(j);
+      cv::line(img, {w - right + 15, ly - 5}, {w - right + 35, ly - 5}, c, 2, cv::LINE_AA);
+      cv::putText(img, s.label, {w - right + 42, ly}, kFont, 0.45, kInk, 1, cv::LINE_AA);
+    }
+  }
+  cv::putText(img, x_label, {left + (w - left - right) / 2 - 40, h - 15}, kFont, 0.55, kInk, 1, cv::LINE_AA);
+  if (!cv::imwrite(path, img)) throw std::runtime_error("plot: cannot write " + path);
+}
+
+}  // namespace hcosim::render

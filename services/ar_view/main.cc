@@ -1,0 +1,221 @@
+// hcosim_ar_view: the AR view. At the camera's rate it draws every object
+// of the scene (deformed meshes, rigid bodies), the stylus and the force
+// it renders over each camera frame, registered by the marker's pose, and
+// writes the video; PNG pictures at chosen moments; and at the end, plots
+// of each object's force and penetration against time. Headless.
+// Params: docs/arview.md.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <optional>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "render/ar_idl.h"
+#include "render/plot.h"
+#include "service.h"
+#include "vision/vision_idl.h"
+
+using namespace hcosim;
+using namespace hcosim::rt;
+namespace fs = std::filesystem;
+
+namespace {
+
+// ForceFeedback samples kept per source between two frames: a 1 kHz
+// source gives 33 to 40 at a camera's rate; more room absorbs a late step.
+constexpr int kTraceDepth = 256;
+
+struct Item {
+  std::string name;
+  std::string kind;   // rigid or deformable
+  double size = 0;    // rigid: half-edge or radius, m
+  cv::Scalar colour;
+};
+
+// One object's force and penetration over time.
+struct Trace {
+  std::vector<double> t, force, depth_mm;
+};
+
+std::vector<Item> items_of(const Params& p) {
+  std::vector<Item> items;
+  for (const Params& o : p.list("objects")) {
+    Item it;
+    it.name = o.string("name", "");
+    if (it.name.empty()) o.fail("name", "each object needs a name");
+    it.kind = o.text("kind", "deformable", {"rigid", "deformable"});
+    // A rigid body's size means what the rigid service reads (docs/rigid.md).
+    if (it.kind == "rigid") it.size = o.number("size", 0.02, 1e-3, 1);
+    it.colour = render::object_colour(items.size());
+    items.push_back(it);
+  }
+  return items;
+}
+
+std::string seconds(double t) { return cv::format("%05.1fs", t); }
+
+void write_plots(const fs::path& dir, const std::map<std::string, Trace>& traces) {
+  fs::create_directories(dir);
+  render::Panel all_force{"force on the stylus (N)", {}}, all_depth{"penetration (mm)", {}};
+  for (const auto& [name, tr] : traces) {
+    render::plot_series((dir / (name + ".png")).string(), name + ": force and penetration against simulated time",
+                        "simulated time (s)",
+                        {{"force on the stylus (N)", {{name, tr.t, tr.force}}},
+                         {"penetration (mm)", {{name, tr.t, tr.depth_mm}}}});
+    all_force.series.push_back({name, tr.t, tr.force});
+    all_depth.series.push_back({name, tr.t, tr.depth_mm});
+  }
+  if (!traces.empty())
+    render::plot_series((dir / "all.png").string(), "every object: force and penetration against simulated time",
+                        "simulated time (s)", {all_force, all_depth});
+}
+
+int run(int argc, char** argv) {
+  Service svc(parse_options(argc, argv));
+  const Params& p = svc.params();
+  const std::string& name = svc.options().name;
+  p.allow_only({"camera", "tag_id", "device", "objects", "video", "snapshots", "plots", "force_scale", "stylus"});
+  const std::string camera = p.string("camera", "");
+  const int tag_id = int(p.number("tag_id", 0, 0, 1e6));
+  const std::string device = p.string("device", "omni");
+  const std::vector<Item> items = items_of(p);
+  std::vector<double> snapshots = p.numbers("snapshots", 0, 1e6);
+  std::sort(snapshots.begin(), snapshots.end());
+  const bool plots = p.text("plots", "on", {"on", "off"}) == "on";
+  const bool show_stylus = p.text("stylus", "on", {"on", "off"}) == "on";
+  render::View view;
+  view.force_scale = p.number("force_scale", view.force_scale, 0, 1);
+  const fs::path out = svc.options().out;
+  const std::string video_name = p.string("video", "ar.mp4");
+  fs::create_directories(out);
+  const fs::path video_path = video_name.empty() ? fs::path() : out / video_name;
+
+  Reader<CameraFrame> frames = svc.reader<CameraFrame>();
+  Reader<MarkerPose> poses = svc.reader<MarkerPose>();
+  Reader<DeformedMesh> meshes = svc.reader<DeformedMesh>();
+  Reader<MeshTopology> topologies = svc.reader<MeshTopology>();
+  Reader<RigidBodyState> bodies = svc.reader<RigidBodyState>();
+  Reader<HapticState> haptic = svc.reader<HapticState>();
+  Reader<ForceFeedback> forces = svc.reader<ForceFeedback>(TopicOf<ForceFeedback>::qos, kTraceDepth);
+
+  std::map<std::string, MeshTopology> topology;
+  std::map<std::string, DeformedMesh> mesh;
+  std::map<std::string, RigidBodyState> body;
+  std::map<std::string, Trace> traces;
+  for (const Item& it : items) traces[it.name];
+  std::optional<HapticState> stylus;
+  std::optional<MarkerPose> pose;
+  std::optional<std::uint64_t> last_frame;
+  cv::VideoWriter video;
+  cv::Mat composite;
+  std::size_t next_snapshot = 0;
+  Window render_ms(1 << 16), cover_pct(1 << 16);
+  std::uint64_t rendered = 0, skipped = 0, stale_pose = 0, unregistered = 0, bad = 0, written = 0;
+  std::vector<std::string> pictures;
+
+  const auto compose = [&](const CameraFrame& f) {
+    composite = vision::bgr_image(f);
+    if (!pose) return ++unregistered, void();
+    if (pose->frame() != f.frame()) ++stale_pose;
+    view.objects.clear();
+    for (const Item& it : items) {
+      if (it.kind == "rigid") {
+        if (auto b = body.find(it.name); b != body.end())
+          view.objects.push_back({it.name, render::body(b->second, it.size), it.colour});
+        continue;
+      }
+      const auto m = mesh.find(it.name);
+      const auto t = topology.find(it.name);
+      if (m == mesh.end() || t == topology.end()) continue;
+      try {
+        view.objects.push_back({it.name, render::mesh(m->second, t->second), it.colour});
+      } catch (const std::invalid_argument& e) {
+        // A mesh of a topology not yet received: drawn from the next frame on.
+        if (++bad <= 3) std::fprintf(stderr, "%s: %s\n", name.c_str(), e.what());
+      }
+    }
+    view.stylus.reset();
+    if (stylus && show_stylus) view.stylus = render::stylus(*stylus);
+    render::Canvas canvas(composite, vision::intrinsics(f), vision::from_idl(pose->tag_in_camera()));
+    render::draw(view, canvas);
+    cover_pct.add(100.0 * double(canvas.pixels()) / double(composite.total()));
+  };
+
+  const int status = svc.run([&](const Tick& tick) {
+    topologies.take([&](const MeshTopology& t) { topology[t.mesh().to_string()] = t; });
+    svc.take(meshes, tick, [&](const DeformedMesh& m) { mesh[m.mesh().to_string()] = m; });
+    svc.take(bodies, tick, [&](const RigidBodyState& b) { body[b.body().to_string()] = b; });
+    svc.take(haptic, tick, [&](const HapticState& s) {
+      if (s.device().to_string() == device) stylus = s;
+    });
+    svc.take(forces, tick, [&](const ForceFeedback& f) {
+      if (f.device().to_string() != device) return;
+      Trace& tr = traces[f.source().to_string()];
+      tr.t.push_back(f.stamp().sim_time_ns() * 1e-9);
+      tr.force.push_back(std::hypot(f.force().x(), f.force().y(), f.force().z()));
+      tr.depth_mm.push_back(1e3 * f.penetration_m());
+    });
+    svc.take(poses, tick, [&](const MarkerPose& m) {
+      if (m.tag_id() == tag_id && (camera.empty() || m.camera().to_string() == camera)) pose = m;
+    });
+    svc.take(frames, tick, [&](const CameraFrame& f) {
+      if (!camera.empty() && f.camera().to_string() != camera) return;
+      if (last_frame && f.frame() <= *last_frame) return;  // a looping source restarted: keep the video going on
+      const std::uint64_t gap = last_frame ? f.frame() - *last_frame - 1 : 0;
+      last_frame = f.frame();
+      skipped += gap;
+      const std::int64_t t0 = mono_ns();
+      compose(f);
+      const double t = f.stamp().sim_time_ns() * 1e-9;
+      cv::putText(composite, cv::format("t = %.2f s", t), {12, 28}, cv::FONT_HERSHEY_SIMPLEX, 0.7,
+                  cv::Scalar(255, 255, 255), 2, cv::LINE_AA);
+      ++rendered;
+      if (!video_path.empty()) {
+        if (!video.isOpened() &&
+            !video.open(video_path.string(), cv::VideoWriter::fourcc('m', 'p', '4', 'v'), svc.options().rate_hz,
+                        composite.size()))
+          throw std::runtime_error("cannot write the video " + video_path.string() +
+                                   " (OpenCV has no MPEG-4 encoder, or the folder is not writable)");
+        // A skipped frame repeats the one before it, so the video keeps the camera's time.
+        for (std::uint64_t k = 0; k <= gap; ++k) video.write(composite), ++written;
+      }
+      for (; next_snapshot < snapshots.size() && t + 1e-9 >= snapshots[next_snapshot]; ++next_snapshot) {
+        const fs::path png = out / "snapshots" / ("ar_" + seconds(snapshots[next_snapshot]) + ".png");
+        fs::create_directories(png.parent_path());
+        if (!cv::imwrite(png.string(), composite)) throw std::runtime_error("cannot write " + png.string());
+        pictures.push_back(png.string());
+      }
+      render_ms.add((mono_ns() - t0) * 1e-6);
+    });
+  });
+  video.release();
+  std::printf("%s: %llu frames drawn, %llu skipped (late), %llu drawn with the previous frame's marker pose, %llu "
+              "without any (no overlay); drawing p50 %.2f ms p99 %.2f ms; the objects cover p50 %.1f%% of a frame\n",
+              name.c_str(), (unsigned long long)rendered, (unsigned long long)skipped, (unsigned long long)stale_pose,
+              (unsigned long long)unregistered, render_ms.percentile(0.5), render_ms.percentile(0.99),
+              cover_pct.size() ? cover_pct.percentile(0.5) : 0.0);
+  if (written) std::printf("%s: video %s, %llu frames\n", name.c_str(), video_path.c_str(), (unsigned long long)written);
+  for (const std::string& pic : pictures) std::printf("%s: picture %s\n", name.c_str(), pic.c_str());
+  if (next_snapshot < snapshots.size())
+    std::printf("%s: %zu picture(s) not taken: the run ended before %.3g s\n", name.c_str(),
+                snapshots.size() - next_snapshot, snapshots[next_snapshot]);
+  if (plots) {
+    // Sources the scene does not name (another service's) are plotted too.
+    std::map<std::string, Trace> drawn;
+    for (auto& [source, tr] : traces)
+      if (!tr.t.empty()) drawn[source] = std::move(tr);
+    write_plots(out / "plots", drawn);
+    std::printf("%s: plots of force and penetration in %s (%zu objects)\n", name.c_str(), (out / "plots").c_str(),
+                drawn.size());
+  }
+  return status;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) { return guarded_main("hcosim_ar_view", [&] { return run(argc, argv); }); }
