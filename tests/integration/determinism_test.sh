@@ -1,15 +1,13 @@
-# Lockstep runs are reproducible across processes: the default deployment
+# Lockstep runs are reproducible across processes: deploy/press.yaml
 # (the virtual user presses the hybrid cube through the simulated Omni) run
 # twice for 2 s with --record exports the same DeformedMesh, ForceFeedback
 # and HapticState lines, bit for bit, though DDS delivers samples in its
 # own order each time. The press reaches the cube, so the outputs depend on
 # the exchange between the two services.
 source "$(dirname "$0")/lib.sh"
-ROOT=$(cd "$(dirname "$0")/../.." && pwd)
-cp -r "$ROOT/deploy/scripts" "$WORK/"
-sed -E "s/^domain: .*/domain: $DOMAIN/" "$ROOT/deploy/default.yaml" >"$WORK/default.yaml"
+from_deploy press.yaml
 for run in 1 2; do
-  timeout 90 "$BIN/hcosim" up "$WORK/default.yaml" --mode lockstep --duration 2 --record "$WORK/run$run.rec" \
+  timeout 90 "$BIN/hcosim" up "$WORK/press.yaml" --mode lockstep --duration 2 --record "$WORK/run$run.rec" \
     --out "$WORK/out$run" >"$WORK/up$run.log" 2>&1 || fail "run $run: up exited $?"
   grep -q "lockstep run complete" "$WORK/up$run.log" || fail "run $run did not complete"
   for topic in DeformedMesh ForceFeedback HapticState; do

@@ -1,13 +1,11 @@
-# Recordings: hcosim up --record keeps every sample of a lockstep run of the
-# default deployment, and hcosim export prints one topic of it in step
+# Recordings: hcosim up --record keeps every sample of a lockstep run of
+# deploy/press.yaml, and hcosim export prints one topic of it in step
 # order, as JSON lines without wall-clock fields or as CSV; hcosim record
 # FILE --topics records chosen topics from a running deployment. Unknown
 # topics, files that are not recordings and cut-short recordings are named.
 source "$(dirname "$0")/lib.sh"
-ROOT=$(cd "$(dirname "$0")/../.." && pwd)
-cp -r "$ROOT/deploy/scripts" "$WORK/"
-sed -E "s/^domain: .*/domain: $DOMAIN/" "$ROOT/deploy/default.yaml" >"$WORK/default.yaml"
-timeout 60 "$BIN/hcosim" up "$WORK/default.yaml" --duration 0.5 --record "$WORK/run.rec" --out "$WORK/out" \
+from_deploy press.yaml
+timeout 60 "$BIN/hcosim" up "$WORK/press.yaml" --duration 0.5 --record "$WORK/run.rec" --out "$WORK/out" \
   >"$WORK/up.log" 2>&1 || fail "up exited $?"
 grep -qE "recorded [0-9]+ samples to $WORK/run.rec" "$WORK/up.log" || fail "up did not say what it recorded"
 

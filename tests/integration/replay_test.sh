@@ -1,13 +1,10 @@
-# hcosim replay: the stylus of a recorded lockstep run of the default
-# deployment, replayed alone into a real-time deformable service, presses
-# the cube again: the service answers with contact forces like the
+# hcosim replay: the stylus of a recorded lockstep run of deploy/press.yaml,
+# replayed alone into a real-time deformable service, presses the cube again: the service answers with contact forces like the
 # recorded ones. Replaying a file that is not a recording, or topics it
 # does not hold, fails with a message.
 source "$(dirname "$0")/lib.sh"
-ROOT=$(cd "$(dirname "$0")/../.." && pwd)
-cp -r "$ROOT/deploy/scripts" "$WORK/"
-sed -E "s/^domain: .*/domain: $DOMAIN/" "$ROOT/deploy/default.yaml" >"$WORK/default.yaml"
-timeout 60 "$BIN/hcosim" up "$WORK/default.yaml" --record "$WORK/run.rec" --out "$WORK/out" >"$WORK/up.log" 2>&1 ||
+from_deploy press.yaml
+timeout 60 "$BIN/hcosim" up "$WORK/press.yaml" --record "$WORK/run.rec" --out "$WORK/out" >"$WORK/up.log" 2>&1 ||
   fail "recording run: up exited $?"
 recorded=$("$BIN/hcosim" export "$WORK/run.rec" --topic ForceFeedback 2>/dev/null | grep -c '"in_contact":true')
 [ "$recorded" -gt 100 ] || fail "the recorded run has only $recorded contact forces"
