@@ -79,7 +79,7 @@ int run(int argc, char** argv) {
   Service svc(parse_options(argc, argv));
   const Params& p = svc.params();
   const std::string& name = svc.options().name;
-  p.allow_only({"camera", "tag_id", "device", "objects", "video", "snapshots", "plots", "force_scale", "stylus"});
+  p.allow_only({"camera", "tag_id", "device", "objects", "video", "snapshots", "plots", "force_scale", "stylus", "fps"});
   const std::string camera = p.string("camera", "");
   const int tag_id = int(p.number("tag_id", 0, 0, 1e6));
   const std::string device = p.string("device", "omni");
@@ -92,6 +92,9 @@ int run(int argc, char** argv) {
   view.force_scale = p.number("force_scale", view.force_scale, 0, 1);
   const fs::path out = svc.options().out;
   const std::string video_name = p.string("video", "ar.mp4");
+  // The video's frame rate is the camera's: the service's own rate when
+  // it runs at the camera's, as it should.
+  const double fps = p.number("fps", svc.options().rate_hz, 1, 1000);
   fs::create_directories(out);
   const fs::path video_path = video_name.empty() ? fs::path() : out / video_name;
 
@@ -177,7 +180,7 @@ int run(int argc, char** argv) {
       ++rendered;
       if (!video_path.empty()) {
         if (!video.isOpened() &&
-            !video.open(video_path.string(), cv::VideoWriter::fourcc('m', 'p', '4', 'v'), svc.options().rate_hz,
+            !video.open(video_path.string(), cv::VideoWriter::fourcc('m', 'p', '4', 'v'), fps,
                         composite.size()))
           throw std::runtime_error("cannot write the video " + video_path.string() +
                                    " (OpenCV has no MPEG-4 encoder, or the folder is not writable)");

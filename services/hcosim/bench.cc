@@ -222,6 +222,7 @@ const std::vector<Suite>& suites() {
       hybrid_suite(),
       rigid_suite(),
       tracking_suite(),
+      arview_suite(),
   };
   return all;
 }

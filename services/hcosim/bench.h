@@ -55,6 +55,9 @@ Suite rigid_suite();
 // Marker detection and pose against ground truth and ArUco: bench_tracking.cc.
 Suite tracking_suite();
 
+// The AR view's frame against OpenCV drawing the same triangles: bench_arview.cc.
+Suite arview_suite();
+
 // 1 kHz HapticState -> ForceFeedback round trips, us (bench.cc).
 struct Rtt {
   rt::Window us{1 << 20};
