@@ -80,7 +80,7 @@ void plot_loglog(const std::string& path, const std::string& title, const std::s
 void plot_series(const std::string& path, const std::string& title, const std::string& x_label,
                  const std::vector<Panel>& panels) {
   if (panels.empty()) throw std::invalid_argument("plot " + path + ": no panels");
-  const int w = 1000, left = 90, right = 200, top = 50, bottom = 60, panel_h = 260, gap = 30;
+  const int w = 1000, left = 90, right = 200, top = 70, bottom = 60, panel_h = 260, gap = 40;
   const int h = top + bottom + int(panels.size()) * panel_h + int(panels.size() - 1) * gap;
   cv::Mat img(h, w, CV_8UC3, cv::Scalar(255, 255, 255));
   double x0 = INFINITY, x1 = -INFINITY;

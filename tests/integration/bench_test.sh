@@ -13,6 +13,6 @@ done
 grep -qE '"p99_ratio_to_bare":[0-9.e+-]+' "$f" || fail "no ratio to bare"
 grep -qE '"loss_ratio":(0|0\.0[0-9]*|[0-9.e-]+)' "$f" || fail "no loss ratio"
 err=$("$BIN/hcosim" bench nosuch --out "$WORK/b" 2>&1); code=$?
-[ $code -eq 2 ] && echo "$err" | grep -q "unknown suite 'nosuch' (suites: dds, massspring, haptic, hybrid, rigid, tracking, all)" || fail "unknown suite: $code $err"
+[ $code -eq 2 ] && echo "$err" | grep -q "unknown suite 'nosuch' (suites: dds, massspring, haptic, hybrid, rigid, tracking, arview, all)" || fail "unknown suite: $code $err"
 echo "bench_test: ok"
 cat "$f"

@@ -23,10 +23,10 @@ cover=$(sed -nE 's/.*the objects cover p50 ([0-9.]+)% of a frame.*/\1/p' "$view"
 awk -v c="${cover:-0}" 'BEGIN { exit !(c >= 2 && c <= 60) }' || fail "the objects cover ${cover:-no}% of a frame"
 
 # Pictures and plots.
-for f in snapshots/ar_001.0s.png snapshots/ar_004.0s.png plots/box.png plots/all.png; do
+for f in snapshots/ar_001.1s.png snapshots/ar_002.1s.png snapshots/ar_004.7s.png plots/box.png plots/ball.png plots/all.png; do
   [ -s "$WORK/out/$f" ] || fail "no $f"
 done
-grep -q "4 picture(s) not taken: the run ended before 7 s" "$view" || fail "the pictures due later are not named"
+grep -q "5 picture(s) not taken: the run ended before 7.5 s" "$view" || fail "the pictures due later are not named"
 
 # Registration against the synthetic truth.
 reg=$(sed -nE 's/.*registration error .* p95 ([0-9.]+) px.*/\1/p' "$WORK/out/logs/cam.log")
