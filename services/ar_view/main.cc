@@ -17,6 +17,7 @@
 
 #include "render/ar_idl.h"
 #include "render/plot.h"
+#include "rigid/body.h"
 #include "service.h"
 #include "vision/vision_idl.h"
 
@@ -49,8 +50,8 @@ std::vector<Item> items_of(const Params& p) {
     it.name = o.string("name", "");
     if (it.name.empty()) o.fail("name", "each object needs a name");
     it.kind = o.text("kind", "deformable", {"rigid", "deformable"});
-    // A rigid body's size means what the rigid service reads (docs/rigid.md).
-    if (it.kind == "rigid") it.size = o.number("size", 0.02, 1e-3, 1);
+    // A rigid body's size means what the rigid service reads, with its default.
+    if (it.kind == "rigid") it.size = o.number("size", rigid::Body().size, 1e-3, 1);
     it.colour = render::object_colour(items.size());
     items.push_back(it);
   }
