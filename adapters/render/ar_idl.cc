@@ -31,9 +31,7 @@ Mesh body(const RigidBodyState& s, double size) {
 Stylus stylus(const HapticState& s) {
   Stylus out;
   out.tip = device::from_idl(s.position());
-  out.orientation = Eigen::Quaterniond(s.orientation().w(), s.orientation().x(), s.orientation().y(), s.orientation().z())
-                        .normalized()
-                        .toRotationMatrix();
+  out.orientation = vision::from_idl(s.orientation());
   out.force = device::from_idl(s.rendered_force());
   return out;
 }

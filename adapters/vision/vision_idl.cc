@@ -17,12 +17,14 @@ Transform to_idl(const Eigen::Isometry3d& pose) {
   return t;
 }
 
+Eigen::Matrix3d from_idl(const Quat& q) {
+  return Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z()).normalized().toRotationMatrix();
+}
+
 Eigen::Isometry3d from_idl(const Transform& t) {
   Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
   p.translation() = Eigen::Vector3d(t.position().x(), t.position().y(), t.position().z());
-  p.linear() = Eigen::Quaterniond(t.orientation().w(), t.orientation().x(), t.orientation().y(), t.orientation().z())
-                   .normalized()
-                   .toRotationMatrix();
+  p.linear() = from_idl(t.orientation());
   return p;
 }
 

@@ -14,7 +14,8 @@
 namespace hcosim::vision {
 
 Transform to_idl(const Eigen::Isometry3d& pose);
-// The pose of a Transform (its quaternion normalised).
+// The rotation of a Quat (normalised) and the pose of a Transform.
+Eigen::Matrix3d from_idl(const Quat& q);
 Eigen::Isometry3d from_idl(const Transform& t);
 
 // Observation o of frame `frame` from camera `camera`, published

@@ -7,6 +7,7 @@
 #include <string>
 
 #include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
 
 namespace hcosim::render {
 namespace {
@@ -23,6 +24,14 @@ Canvas::Canvas(cv::Mat bgr, const vision::Intrinsics& k, const Eigen::Isometry3d
     throw std::invalid_argument("canvas: the image must be 8-bit BGR of the intrinsics' size " +
                                 std::to_string(k.width) + "x" + std::to_string(k.height));
   depth_ = cv::Mat(bgr.rows, bgr.cols, CV_32F, cv::Scalar(std::numeric_limits<float>::infinity()));
+}
+
+void Canvas::arrow(const Eigen::Vector3d& from, const Eigen::Vector3d& to, const cv::Scalar& colour, int thickness) {
+  double d0 = 0, d1 = 0;
+  const Eigen::Vector2d a = project(from, &d0), b = project(to, &d1);
+  if (d0 < kNear || d1 < kNear) return;
+  cv::arrowedLine(bgr_, {int(std::lround(a.x())), int(std::lround(a.y()))}, {int(std::lround(b.x())), int(std::lround(b.y()))},
+                  colour, thickness, cv::LINE_AA, 0, 0.25);
 }
 
 Eigen::Vector2d Canvas::project(const Eigen::Vector3d& world, double* depth) const {

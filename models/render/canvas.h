@@ -29,6 +29,10 @@ class Canvas {
   // Throws std::invalid_argument for an index out of range.
   void mesh(const Eigen::Matrix3Xd& vertices, const std::vector<std::uint32_t>& triangles, const cv::Scalar& colour);
 
+  // A straight arrow from one world point to another, drawn over
+  // everything (no depth test); nothing when either end is behind the camera.
+  void arrow(const Eigen::Vector3d& from, const Eigen::Vector3d& to, const cv::Scalar& colour, int thickness);
+
   // A world point's pixel, and its depth along the optical axis (m).
   Eigen::Vector2d project(const Eigen::Vector3d& world, double* depth = nullptr) const;
 

@@ -1,7 +1,5 @@
 #include "render/view.h"
 
-#include <opencv2/imgproc.hpp>
-
 namespace hcosim::render {
 namespace {
 
@@ -27,13 +25,7 @@ void draw(const View& v, Canvas& c) {
   c.mesh(body.vertices, body.triangles, kStylus);
   const Mesh tip = placed(sphere(1.5 * v.stylus_radius, 6), pen);
   c.mesh(tip.vertices, tip.triangles, kTip);
-  if (s.force.norm() < kLeastForce) return;
-  double d0 = 0, d1 = 0;
-  const Eigen::Vector2d a = c.project(s.tip, &d0), b = c.project(s.tip + v.force_scale * s.force, &d1);
-  if (d0 <= 0 || d1 <= 0) return;
-  cv::Mat img = c.image();
-  cv::arrowedLine(img, {int(std::lround(a.x())), int(std::lround(a.y()))}, {int(std::lround(b.x())), int(std::lround(b.y()))},
-                  kArrow, 3, cv::LINE_AA, 0, 0.25);
+  if (s.force.norm() >= kLeastForce) c.arrow(s.tip, s.tip + v.force_scale * s.force, kArrow, 3);
 }
 
 }  // namespace hcosim::render

@@ -111,7 +111,6 @@ int run(int argc, char** argv) {
   std::map<std::string, DeformedMesh> mesh;
   std::map<std::string, RigidBodyState> body;
   std::map<std::string, Trace> traces;
-  for (const Item& it : items) traces[it.name];
   std::optional<HapticState> stylus;
   std::optional<MarkerPose> pose;
   std::optional<std::uint64_t> last_frame;
@@ -169,8 +168,8 @@ int run(int argc, char** argv) {
     });
     svc.take(frames, tick, [&](const CameraFrame& f) {
       if (!camera.empty() && f.camera().to_string() != camera) return;
-      if (last_frame && f.frame() <= *last_frame) return;  // a looping source restarted: keep the video going on
-      const std::uint64_t gap = last_frame ? f.frame() - *last_frame - 1 : 0;
+      // Frame numbers that go back are a looping source starting again: no gap.
+      const std::uint64_t gap = last_frame && f.frame() > *last_frame ? f.frame() - *last_frame - 1 : 0;
       last_frame = f.frame();
       skipped += gap;
       const std::int64_t t0 = mono_ns();
@@ -198,7 +197,7 @@ int run(int argc, char** argv) {
     });
   });
   video.release();
-  std::printf("%s: %llu frames drawn, %llu skipped (late), %llu drawn with the previous frame's marker pose, %llu "
+  std::printf("%s: %llu frames drawn, %llu skipped (late, or never sent), %llu drawn with the previous frame's marker pose, %llu "
               "without any (no overlay); drawing p50 %.2f ms p99 %.2f ms; the objects cover p50 %.1f%% of a frame\n",
               name.c_str(), (unsigned long long)rendered, (unsigned long long)skipped, (unsigned long long)stale_pose,
               (unsigned long long)unregistered, render_ms.percentile(0.5), render_ms.percentile(0.99),
@@ -209,13 +208,10 @@ int run(int argc, char** argv) {
     std::printf("%s: %zu picture(s) not taken: the run ended before %.3g s\n", name.c_str(),
                 snapshots.size() - next_snapshot, snapshots[next_snapshot]);
   if (plots) {
-    // Sources the scene does not name (another service's) are plotted too.
-    std::map<std::string, Trace> drawn;
-    for (auto& [source, tr] : traces)
-      if (!tr.t.empty()) drawn[source] = std::move(tr);
-    write_plots(out / "plots", drawn);
+    // Every source that answered the device, named in the scene or not.
+    write_plots(out / "plots", traces);
     std::printf("%s: plots of force and penetration in %s (%zu objects)\n", name.c_str(), (out / "plots").c_str(),
-                drawn.size());
+                traces.size());
   }
   return status;
 }

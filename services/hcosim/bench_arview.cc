@@ -23,7 +23,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <numeric>
 
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
@@ -40,11 +39,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-
-double median_of(std::vector<double> v, double q = 0.5) {
-  std::sort(v.begin(), v.end());
-  return v[std::size_t(q * double(v.size() - 1) + 0.5)];
-}
 
 render::Mesh from(const massspring::TriangleMesh& m) {
   render::Mesh out{m.vertices, {}};
@@ -158,7 +152,8 @@ std::vector<Row> frame_rows(const Context& c) {
     const std::string video_path = (c.out / "arview_bench.mp4").string();
     cv::VideoWriter video(video_path, cv::VideoWriter::fourcc('m', 'p', '4', 'v'), 30, cv::Size(cs.width, cs.height));
     if (!video.isOpened()) throw std::runtime_error("bench arview: OpenCV cannot write MPEG-4 video to " + video_path);
-    std::vector<double> draw, encode, total, baseline, differ;
+    const std::size_t n = std::size_t(frames);
+    rt::Window draw(n), encode(n), total(n), baseline(n), differ(n);
     for (int i = 0; i < frames; ++i) {
       const std::size_t b = std::size_t(i) % grey.size();
       const Clock::time_point t0 = Clock::now();
@@ -166,35 +161,35 @@ std::vector<Row> frame_rows(const Context& c) {
       cv::cvtColor(grey[b], img, cv::COLOR_GRAY2BGR);
       render::Canvas canvas(img, k, poses[b]);
       render::draw(view, canvas);
-      draw.push_back(ms_since(t0));
+      draw.add(ms_since(t0));
       const Clock::time_point t1 = Clock::now();
       video.write(img);
-      encode.push_back(ms_since(t1));
-      total.push_back(ms_since(t0));
+      encode.add(ms_since(t1));
+      total.add(ms_since(t0));
       const Clock::time_point t2 = Clock::now();
       cv::Mat ref;
       cv::cvtColor(grey[b], ref, cv::COLOR_GRAY2BGR);
       painter(view, k, poses[b], ref);
-      baseline.push_back(ms_since(t2));
+      baseline.add(ms_since(t2));
       cv::Mat diff, far;
       cv::absdiff(img, ref, diff);
       cv::inRange(diff, cv::Scalar(0, 0, 0), cv::Scalar(40, 40, 40), far);
-      differ.push_back(100.0 * double(far.total() - std::size_t(cv::countNonZero(far))) / double(far.total()));
+      differ.add(100.0 * double(far.total() - std::size_t(cv::countNonZero(far))) / double(far.total()));
     }
     video.release();
     std::filesystem::remove(video_path);
     Row r{"frame", {{"scene", cs.scene}, {"resolution", std::to_string(cs.width) + "x" + std::to_string(cs.height)}}, {}};
-    const double frame_ms = median_of(total);
+    const double frame_ms = total.percentile(0.5);
     r.metrics = {{"triangles", double(triangles(view))},
-                 {"draw_ms_p50", median_of(draw)},
-                 {"draw_ms_p99", median_of(draw, 0.99)},
-                 {"encode_ms_p50", median_of(encode)},
+                 {"draw_ms_p50", draw.percentile(0.5)},
+                 {"draw_ms_p99", draw.percentile(0.99)},
+                 {"encode_ms_p50", encode.percentile(0.5)},
                  {"frame_ms_p50", frame_ms},
-                 {"frame_ms_p99", median_of(total, 0.99)},
+                 {"frame_ms_p99", total.percentile(0.99)},
                  {"fps_p50", 1000 / frame_ms},
-                 {"opencv_ms_p50", median_of(baseline)},
-                 {"ratio_to_opencv", median_of(draw) / median_of(baseline)},
-                 {"differ_pct", median_of(differ)}};
+                 {"opencv_ms_p50", baseline.percentile(0.5)},
+                 {"ratio_to_opencv", draw.percentile(0.5) / baseline.percentile(0.5)},
+                 {"differ_pct", differ.percentile(0.5)}};
     rows.push_back(r);
   }
   return rows;

@@ -17,7 +17,7 @@ grep -q "omni: 5000 ticks" "$WORK/out/logs/omni.log" || fail "the haptic device 
 read -r frames blank < <(sed -E 's/.*: ([0-9]+) frames, .*, ([0-9]+) blank, .*/\1 \2/' "$WORK/video.log")
 [ "$frames" -ge 90 ] && [ "$blank" -eq 0 ] || fail "video: $(cat "$WORK/video.log")"
 view=$WORK/out/logs/view.log
-grep -qE "view: [0-9]+ frames drawn, 0 skipped \(late\), 0 drawn with the previous frame's marker pose, 0 without" \
+grep -qE "view: [0-9]+ frames drawn, 0 skipped \(late, or never sent\), 0 drawn with the previous frame's marker pose, 0 without" \
   "$view" || fail "frames were skipped or unregistered: $(grep 'frames drawn' "$view")"
 cover=$(sed -nE 's/.*the objects cover p50 ([0-9.]+)% of a frame.*/\1/p' "$view")
 awk -v c="${cover:-0}" 'BEGIN { exit !(c >= 2 && c <= 60) }' || fail "the objects cover ${cover:-no}% of a frame"
