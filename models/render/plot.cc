@@ -31,45 +31,74 @@ std::string tick_label(double v, double step) {
 
 }  // namespace
 
-void plot_loglog(const std::string& path, const std::string& title, const std::string& x_label,
-                 const std::string& y_label, const std::vector<Series>& series) {
+void plot_scatter(const std::string& path, const std::string& title, const std::string& x_label,
+                  const std::string& y_label, const std::vector<Series>& series, Axes axes) {
   const int w = 1000, h = 700, left = 90, right = 220, top = 50, bottom = 70;
   cv::Mat img(h, w, CV_8UC3, cv::Scalar(255, 255, 255));
+  // Positions along each axis: log10 of the value on a log axis.
+  const auto fx = [&](double v) { return axes.log_x ? std::log10(v) : v; };
+  const auto fy = [&](double v) { return axes.log_y ? std::log10(v) : v; };
+  const auto ok = [&](double x, double y) {
+    return std::isfinite(x) && std::isfinite(y) && (!axes.log_x || x > 0) && (!axes.log_y || y > 0);
+  };
   double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
-  auto ok = [](double v) { return std::isfinite(v) && v > 0; };
   for (const Series& s : series)
-    for (std::size_t i = 0; i < s.x.size(); ++i)
-      if (ok(s.x[i]) && ok(s.y[i])) {
-        x0 = std::min(x0, std::log10(s.x[i])), x1 = std::max(x1, std::log10(s.x[i]));
-        y0 = std::min(y0, std::log10(s.y[i])), y1 = std::max(y1, std::log10(s.y[i]));
+    for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i)
+      if (ok(s.x[i], s.y[i])) {
+        x0 = std::min(x0, fx(s.x[i])), x1 = std::max(x1, fx(s.x[i]));
+        y0 = std::min(y0, fy(s.y[i])), y1 = std::max(y1, fy(s.y[i]));
       }
-  if (!std::isfinite(x0)) throw std::runtime_error("plot " + path + ": no positive points");
-  // Whole decades around the data.
-  x0 = std::floor(x0), x1 = std::max(std::ceil(x1), x0 + 1), y0 = std::floor(y0), y1 = std::max(std::ceil(y1), y0 + 1);
-  auto px = [&](double v) { return left + int((std::log10(v) - x0) / (x1 - x0) * (w - left - right)); };
-  auto py = [&](double v) { return h - bottom - int((std::log10(v) - y0) / (y1 - y0) * (h - top - bottom)); };
-  for (int d = int(x0); d <= int(x1); ++d) {
-    const int x = px(std::pow(10.0, d));
+  if (!std::isfinite(x0)) throw std::runtime_error("plot " + path + ": no point to draw");
+  // Whole decades on a log axis; round ticks with zero in view on a linear one.
+  struct Ticks {
+    double lo, hi, step;
+  };
+  const auto ticks = [](double lo, double hi, bool log) {
+    if (log) return Ticks{std::floor(lo), std::max(std::ceil(hi), std::floor(lo) + 1), 1.0};
+    lo = std::min(lo, 0.0), hi = std::max(hi, 0.0);
+    if (hi - lo < 1e-12) hi = lo + 1;
+    const double step = tick_step(hi - lo, 8);
+    return Ticks{std::floor(lo / step) * step, std::ceil(hi / step) * step, step};
+  };
+  const Ticks tx = ticks(x0, x1, axes.log_x), ty = ticks(y0, y1, axes.log_y);
+  // Points on the frame's edge would be cut in half: a margin inside it.
+  const int pad = 12;
+  const auto px = [&](double v) {
+    return left + pad + int((fx(v) - tx.lo) / (tx.hi - tx.lo) * (w - left - right - 2 * pad));
+  };
+  const auto py = [&](double v) {
+    return h - bottom - pad - int((fy(v) - ty.lo) / (ty.hi - ty.lo) * (h - top - bottom - 2 * pad));
+  };
+  const auto label = [](double t, const Ticks& k, bool log) {
+    return log ? "1e" + std::to_string(int(std::lround(t))) : tick_label(t, k.step);
+  };
+  for (double t = tx.lo; t <= tx.hi + 1e-9 * tx.step; t += tx.step) {
+    const int x = px(axes.log_x ? std::pow(10.0, t) : t);
     cv::line(img, {x, top}, {x, h - bottom}, kGrid);
-    cv::putText(img, "1e" + std::to_string(d), {x - 18, h - bottom + 22}, kFont, 0.5, kInk, 1, cv::LINE_AA);
+    cv::putText(img, label(t, tx, axes.log_x), {x - 18, h - bottom + 22}, kFont, 0.5, kInk, 1, cv::LINE_AA);
   }
-  for (int d = int(y0); d <= int(y1); ++d) {
-    const int y = py(std::pow(10.0, d));
+  for (double t = ty.lo; t <= ty.hi + 1e-9 * ty.step; t += ty.step) {
+    const int y = py(axes.log_y ? std::pow(10.0, t) : t);
     cv::line(img, {left, y}, {w - right, y}, kGrid);
-    cv::putText(img, "1e" + std::to_string(d), {left - 50, y + 5}, kFont, 0.5, kInk, 1, cv::LINE_AA);
+    cv::putText(img, label(t, ty, axes.log_y), {left - 60, y + 5}, kFont, 0.5, kInk, 1, cv::LINE_AA);
   }
   cv::rectangle(img, {left, top}, {w - right, h - bottom}, kInk);
   cv::putText(img, title, {left, 24}, kFont, 0.65, kInk, 1, cv::LINE_AA);
   cv::putText(img, x_label, {left + (w - left - right) / 2 - 80, h - 20}, kFont, 0.55, kInk, 1, cv::LINE_AA);
   cv::putText(img, y_label, {10, top - 8}, kFont, 0.5, kInk, 1, cv::LINE_AA);
-  // MuJoCo, the baseline, in black and greys.
+  // Baselines (MuJoCo, bare Fast DDS, OpenCV ArUco) in black and greys.
   int baselines = 0;
   for (std::size_t k = 0; k < series.size(); ++k) {
     const Series& s = series[k];
     const double grey = 110.0 * baselines;
-    const cv::Scalar c = s.label.rfind("mujoco", 0) == 0 ? (++baselines, cv::Scalar(grey, grey, grey)) : kPalette[k % 8];
-    for (std::size_t i = 0; i < s.x.size(); ++i)
-      if (ok(s.x[i]) && ok(s.y[i])) cv::circle(img, {px(s.x[i]), py(s.y[i])}, 5, c, cv::FILLED, cv::LINE_AA);
+    const cv::Scalar c = s.baseline ? (++baselines, cv::Scalar(grey, grey, grey)) : kPalette[k % 8];
+    // A thin line through a series' points in x order shows its trend.
+    std::vector<cv::Point> points;
+    for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i)
+      if (ok(s.x[i], s.y[i])) points.emplace_back(px(s.x[i]), py(s.y[i]));
+    std::sort(points.begin(), points.end(), [](const cv::Point& a, const cv::Point& b) { return a.x < b.x; });
+    cv::polylines(img, points, false, c, 1, cv::LINE_AA);
+    for (const cv::Point& q : points) cv::circle(img, q, 5, c, cv::FILLED, cv::LINE_AA);
     const int ly = top + 20 + 24 * int(k);
     cv::circle(img, {w - right + 20, ly - 5}, 5, c, cv::FILLED, cv::LINE_AA);
     cv::putText(img, s.label, {w - right + 32, ly}, kFont, 0.45, kInk, 1, cv::LINE_AA);

@@ -1,5 +1,5 @@
-// Plots as PNG, drawn with OpenCV: log-log scatter plots for bench
-// reports, and time series for run reports.
+// Plots as PNG, drawn with OpenCV: scatter plots for bench reports, and
+// time series for run reports.
 #pragma once
 
 #include <string>
@@ -9,12 +9,19 @@ namespace hcosim::render {
 
 struct Series {
   std::string label;
-  std::vector<double> x, y;  // plot_loglog skips non-positive and non-finite points
+  std::vector<double> x, y;  // non-finite points are skipped, and non-positive ones on a log axis
+  bool baseline = false;     // a peer measured for comparison: drawn in grey
 };
 
-// Writes a PNG at `path` with both axes logarithmic and one colour per series.
-void plot_loglog(const std::string& path, const std::string& title, const std::string& x_label,
-                 const std::string& y_label, const std::vector<Series>& series);
+// Each axis of a scatter plot: logarithmic (whole decades) or linear (with zero in view).
+struct Axes {
+  bool log_x = true, log_y = true;
+};
+
+// Writes a PNG at `path`, one colour per series. Throws std::runtime_error
+// when no point can be drawn or the file cannot be written.
+void plot_scatter(const std::string& path, const std::string& title, const std::string& x_label,
+                  const std::string& y_label, const std::vector<Series>& series, Axes axes = {});
 
 // Panels stacked over one shared x axis, linear scales, one line per series.
 struct Panel {

@@ -26,16 +26,51 @@ struct Row {
   std::vector<std::pair<std::string, double>> metrics;
 };
 
+// A param's value as the report prints it: numbers to 4 significant
+// digits, integers whole.
+std::string text(const Value& v);
+std::string text(double v);
+
 struct Context {
   bool quick = false;
   int domain = 0;
   std::filesystem::path out;  // where the report (and any plot) goes
 };
 
+// How index.md shows the rows of one name: a caption saying what was
+// measured, on what, and against what.
+struct Table {
+  std::string row, caption;
+};
+
+// A scatter plot of two metrics of the rows of one name (time against error
+// where the suite has an error): one series per value of the `series`
+// params, one plot per value of the `group` params.
+struct Plot {
+  std::string row;
+  std::string x, y;              // metric names, or numeric params
+  std::string x_label, y_label;  // with units
+  std::vector<std::string> series = {}, group = {};
+  std::pair<std::string, std::string> baseline = {};  // param and value of the peer's rows, drawn grey
+  bool log_x = true, log_y = true;
+};
+
+// A stated goal: `metric` is at most `max` in every row named `row` (whose
+// param `where` has the value `is`, when `where` is given).
+struct Goal {
+  std::string text;
+  std::string row, metric;
+  double max;
+  std::string where = "", is = "";
+};
+
 struct Suite {
   const char* name;
   const char* what;
   std::function<std::vector<Row>(const Context&)> run;
+  std::vector<Table> tables = {};  // rows of a name without one get a table captioned by its name
+  std::vector<Plot> plots = {};
+  std::vector<Goal> goals = {};
 };
 
 inline void progress(const std::string& line) { std::cerr << "bench: " << line << std::endl; }
@@ -58,7 +93,11 @@ Suite tracking_suite();
 // The AR view's frame against OpenCV drawing the same triangles: bench_arview.cc.
 Suite arview_suite();
 
-// 1 kHz HapticState -> ForceFeedback round trips, us (bench.cc).
+// The DDS transport: haptic round trips and mesh publishing against bare
+// Fast DDS: bench_dds.cc.
+Suite dds_suite();
+
+// 1 kHz HapticState -> ForceFeedback round trips, us (bench_dds.cc).
 struct Rtt {
   rt::Window us{1 << 20};
   std::uint64_t sent = 0, lost = 0;
@@ -71,5 +110,31 @@ void stop_peer(pid_t pid);
 
 // Round trips against a bare Fast DDS peer for `seconds`.
 Rtt bare_rtt(int domain, double seconds);
+
+// Where a suite's plots go: DIR/SUITE_GROUP.png, one per group of each plot.
+struct Figure {
+  std::string row;
+  std::filesystem::path file;
+  std::string caption;
+};
+
+// Draws every plot of `s` from its rows into `dir` (bench_report.cc).
+std::vector<Figure> draw_plots(const Suite& s, const std::vector<Row>& rows, const std::filesystem::path& dir);
+
+// One suite's outcome, for the report.
+struct Result {
+  const Suite* suite;
+  std::vector<Row> rows;
+  std::vector<Figure> figures;
+  double seconds;     // wall time the suite took
+  std::string error;  // why the suite stopped, if it did
+};
+
+// The machine, compiler and libraries, as (name, value) pairs.
+std::vector<std::pair<std::string, std::string>> machine();
+
+// Writes DIR/index.md: per suite its goals, tables and plots, and the
+// machine (bench_report.cc).
+void write_index(const std::filesystem::path& dir, const std::string& command, const std::vector<Result>& results);
 
 }  // namespace hcosim::cli

@@ -9,7 +9,9 @@
 //   the closed loop's on-time test applied to it.
 // wall: the stiff-wall rig (adapters/device/wall_rig.h) per delay and
 //   stiffness: the largest force output, the device's net work on the tip,
-//   and whether the contact settled.
+//   whether the contact settled, the settled depth's error from where the
+//   hand's pull balances the wall, and the largest force over that
+//   balance's force, less 1 (overshoot).
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -98,7 +100,8 @@ std::vector<Row> haptic_rows(const Context& c) {
                       {{"max_force_n", run.max_force_n},
                        {"energy_out_j", run.max_energy_out_j},
                        {"stable", run.stable ? 1.0 : 0.0},
-                       {"depth_error", run.depth_m / device::balance_depth(rig) - 1}}});
+                       {"depth_error", run.depth_m / device::balance_depth(rig) - 1},
+                       {"overshoot", run.max_force_n / (k * device::balance_depth(rig)) - 1}}});
     }
   return rows;
 }
@@ -106,10 +109,28 @@ std::vector<Row> haptic_rows(const Context& c) {
 }  // namespace
 
 Suite haptic_suite() {
-  return {"haptic",
+  Suite s{"haptic",
           "haptic device: closed-loop round trip through hcosim_haptic against bare Fast DDS, and the stiff wall "
           "with 0 to 5 ms of force delay",
           haptic_rows};
+  s.tables = {
+      {"closed_loop_rtt",
+       "hcosim_haptic at 1 kHz waiting up to 0.8 ms each tick for the force answering that tick's state, from a "
+       "force peer in another process; round trips measured by the device service over every tick; on_time_ratio: "
+       "ticks whose answer came in time; the ratio is to bare_fastdds_rtt below, same run."},
+      {"bare_fastdds_rtt",
+       "The same payloads and QoS kinds between two processes with Fast DDS alone, measured in the same run: the "
+       "baseline; within_0_8ms_ratio applies the closed loop's on-time test to it."},
+      {"wall",
+       "The stiff-wall rig (adapters/device/wall_rig.h, passivity controller on) pressed 1 cm behind a wall of each "
+       "stiffness with 0 to 5 ms of force delay: the largest force, the device's net work on the tip (energy_out_j, "
+       "positive is energy the device created), whether it settled, the settled depth's error and the force "
+       "overshoot over the balance force."}};
+  s.plots = {{"wall", "delay_ms", "overshoot", "force delay (ms)", "force overshoot (fraction of the balance force)",
+              {"stiffness_n_per_m"}, {}, {}, false, false}};
+  s.goals = {{"every wall contact settles with no energy created (energy_out_j <= 1 mJ)", "wall", "energy_out_j",
+              1e-3}};
+  return s;
 }
 
 }  // namespace hcosim::cli

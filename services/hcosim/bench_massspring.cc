@@ -18,14 +18,11 @@
 #include "bench.h"
 #include "massspring/mujoco_lattice.h"
 #include "massspring/simulator.h"
-#include "render/plot.h"
 
 namespace hcosim::cli {
 namespace {
 
 namespace ms = hcosim::massspring;
-using render::plot_loglog;
-using render::Series;
 
 constexpr double kDuration = 0.2, kPress = 0.1, kSample = 0.02;  // s
 
@@ -116,8 +113,6 @@ std::string fmt(double v) {
   o << v;
   return o.str();
 }
-std::string fmt_value(double v) { return fmt(v); }
-std::string fmt_value(const std::string& v) { return v; }
 
 // Median wall time over `reps` runs (one if a run takes over 2 s).
 template <class Run>
@@ -136,8 +131,8 @@ struct Config {
   double dt, threshold;
 };
 
-std::vector<Row> scene_rows(const Scene& sc, const Context& c, std::vector<Series>& plot) {
-  const int reps = c.quick ? 1 : 3;
+std::vector<Row> scene_rows(const Scene& sc, const Context& c) {
+  const int reps = 3;
   const double budget_s = c.quick ? 10 : 90;  // longest single run we start
   std::vector<Row> rows;
   const ms::Spectrum spec = ms::bound_spectrum(sc.lattice);
@@ -167,9 +162,8 @@ std::vector<Row> scene_rows(const Scene& sc, const Context& c, std::vector<Serie
     configs.push_back({ms::Integrator::symplectic_euler, 5e-4, th});
     configs.push_back({ms::Integrator::velocity_verlet, 1e-3, th});
   }
-  std::map<std::string, Series> series;
   std::map<std::string, double> over_budget;  // label and threshold -> dt that was
-  auto add_row = [&](const std::string& label, const std::string& integrator, double dt, double threshold,
+  auto add_row = [&](const std::string& integrator, double dt, double threshold,
                      const Trace& t, const std::string& mujoco_integrator = "") {
     Row r{"step",
           {{"lattice", sc.name}, {"shape", sc.shape}, {"masses", double(sc.lattice.size())},
@@ -180,10 +174,6 @@ std::vector<Row> scene_rows(const Scene& sc, const Context& c, std::vector<Serie
            {"substeps", double(t.substeps)}}};
     if (!mujoco_integrator.empty()) r.params.push_back({"mujoco_integrator", mujoco_integrator});
     rows.push_back(r);
-    Series& s = series[label];
-    s.label = label;
-    s.x.push_back(r.metrics[0].second);
-    s.y.push_back(r.metrics[1].second);
   };
   for (const Config& cf : configs) {
     ms::Options o;
@@ -213,7 +203,7 @@ std::vector<Row> scene_rows(const Scene& sc, const Context& c, std::vector<Serie
       }
     }
     progress(sc.name + ": " + label + " dt " + fmt(cf.dt) + (cf.threshold > 0 ? " threshold " + fmt(cf.threshold) : ""));
-    add_row(label, ms::name(cf.integrator), cf.dt, cf.threshold, measure([&] { return run_ours(sc, o); }, reps));
+    add_row(ms::name(cf.integrator), cf.dt, cf.threshold, measure([&] { return run_ours(sc, o); }, reps));
   }
   // MuJoCo on the same lattice, where version 2.2.2 can hold it.
   const double bytes = ms::MujocoLattice::data_bytes(sc.lattice);
@@ -225,8 +215,7 @@ std::vector<Row> scene_rows(const Scene& sc, const Context& c, std::vector<Serie
     for (const char* integrator : {"Euler", "RK4"})
       for (double dt : explicit_dt) {
         progress(sc.name + ": mujoco " + integrator + " dt " + fmt(dt));
-        const std::string label = std::string("mujoco ") + integrator;
-        add_row(label, "mujoco", dt, 0, measure([&] { return run_mujoco(sc, dt, integrator); }, reps), integrator);
+        add_row("mujoco", dt, 0, measure([&] { return run_mujoco(sc, dt, integrator); }, reps), integrator);
       }
   }
   // Speed-up at equal or lower error: for each MuJoCo row, our fastest row
@@ -242,10 +231,9 @@ std::vector<Row> scene_rows(const Scene& sc, const Context& c, std::vector<Serie
     std::string match;
     for (const auto& [k, v] : best->params)
       if (k == "integrator" || k == "dt" || k == "threshold")
-        match += (match.empty() ? "" : " ") + k + "=" + std::visit([](const auto& x) { return fmt_value(x); }, v);
+        match += (match.empty() ? "" : " ") + k + "=" + text(v);
     rows[m].params.push_back({"matched_by", match});
   }
-  for (auto& [label, s] : series) plot.push_back(s);
   return rows;
 }
 
@@ -261,26 +249,30 @@ std::vector<Row> massspring_rows(const Context& c) {
     scenes.push_back(box(46));
   }
   std::vector<Row> all;
-  for (const Scene& sc : scenes) {
-    std::vector<Series> plot;
-    for (Row& r : scene_rows(sc, c, plot)) all.push_back(std::move(r));
-    const std::string png = (c.out / ("massspring_" + sc.name + ".png")).string();
-    plot_loglog(png,
-                "massspring " + sc.name + " (" + std::to_string(sc.lattice.size()) + " masses, " +
-                    std::to_string(sc.lattice.springs.size()) + " springs)",
-                "ms per simulated s", "relative error", plot);
-    std::cout << "wrote " << png << "\n";
-  }
+  for (const Scene& sc : scenes)
+    for (Row& r : scene_rows(sc, c)) all.push_back(std::move(r));
   return all;
 }
 
 }  // namespace
 
 Suite massspring_suite() {
-  return {"massspring",
+  Suite s{"massspring",
           "mass-spring behavior model: integrators, adaptive active masses and MuJoCo 2.2.2 on the same lattices, "
           "ms per simulated s against error from a converged RK4 reference",
           massspring_rows};
+  s.tables = {{"reference",
+               "The reference each lattice's errors are measured from: RK4 at a sixteenth of its stable step; "
+               "ref_self_error is its change when that step is halved, below which two errors count as equal."},
+              {"step",
+               "A lattice pressed at one mass for 0.1 s then released, 0.2 s simulated: wall ms per simulated s "
+               "(median of 3 runs, one run when a run takes over 2 s) against the positions' relative error from the "
+               "reference, per integrator, step and adaptive threshold (simulated_fraction: masses simulated), and "
+               "MuJoCo on the same lattice; speedup_at_equal_error is MuJoCo's time over our fastest row with no "
+               "larger error, in the same run."}};
+  s.plots = {{"step", "ms_per_sim_s", "rel_error", "wall ms per simulated s", "relative error",
+              {"integrator", "mujoco_integrator", "threshold"}, {"lattice"}, {"integrator", "mujoco"}}};
+  return s;
 }
 
 }  // namespace hcosim::cli

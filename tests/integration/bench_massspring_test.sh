@@ -21,7 +21,7 @@ for lattice in box216 dome129; do
     fail "no speed-up at equal error for $lattice"
   grep -qE "\{\"name\":\"reference\",\"params\":\{\"lattice\":\"$lattice\"[^}]*\},\"metrics\":\{\"ref_self_error\":$num" "$f" ||
     fail "no reference row for $lattice"
-  png="$WORK/b/massspring_$lattice.png"
+  png="$WORK/b/massspring_step_$lattice.png"
   [ "$(head -c 8 "$png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] || fail "$png is not a PNG"
 done
 # The reference has converged far below the errors it judges.

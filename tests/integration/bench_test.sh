@@ -1,18 +1,53 @@
-# hcosim bench writes DIR/SUITE.json in the documented shape, with the
-# hcosim row compared to bare Fast DDS measured in the same run.
+# hcosim bench dds --quick: DIR/dds.json in the documented shape, hcosim's
+# rows compared to bare Fast DDS measured in the same run, meshes delivered
+# without loss, and DIR/index.md reporting them with its goals judged from
+# the same rows, plots and the machine.
 source "$(dirname "$0")/lib.sh"
-timeout 100 "$BIN/hcosim" bench dds --quick --domain "$DOMAIN" --out "$WORK/b" >"$WORK/bench.log" 2>&1 ||
-  fail "bench exited $?"
+timeout 300 "$BIN/hcosim" bench dds --quick --domain "$DOMAIN" --out "$WORK/b" >"$WORK/bench.log" 2>&1 ||
+  fail "bench exited $?: $(tail -5 "$WORK/bench.log")"
+grep -q "bench: \[1/1\] dds: " "$WORK/bench.log" || fail "no progress line: $(head -3 "$WORK/bench.log")"
 f="$WORK/b/dds.json"
 [ -s "$f" ] || fail "no $f"
-grep -qE '^\{"suite":"dds","description":"[^"]+","machine":\{"host":' "$f" || fail "header: $(head -c 300 "$f")"
-for impl in bare hcosim; do
-  grep -qE "\{\"name\":\"rtt\",\"params\":\{\"impl\":\"$impl\",[^}]*\},\"metrics\":\{\"p50_us\":[0-9.e+-]+,\"p99_us\":[0-9.e+-]+," "$f" ||
-    fail "no $impl rtt row with numeric p50_us/p99_us: $(cat "$f")"
+grep -qE '^\{"suite":"dds","description":"[^"]+","machine":\{"date":"[^"]+","host":' "$f" || fail "header: $(head -c 300 "$f")"
+problems=$(jq -r '
+  .rows as $rows
+  | def rtt($i): [$rows[] | select(.name == "rtt" and .params.impl == $i)][0].metrics;
+    def mesh($v; $s; $i): [$rows[] | select(.name == "mesh_pub" and .params.vertices == $v
+                                             and .params.subscribers == $s and .params.impl == $i)][0].metrics;
+  ([("bare", "hcosim") as $i | ("p50_us", "p99_us", "loss_ratio") as $k
+    | select((rtt($i)[$k] | type) != "number") | "rtt \($i): no \($k)"]
+   + [if (rtt("hcosim").p99_ratio_to_bare | type) != "number" then "rtt: no ratio to bare" else empty end]
+   + [(1000, 10000, 100000) as $v | (1, 3) as $s | ("bare", "hcosim") as $i | mesh($v; $s; $i) as $m
+      | if $m == null then "mesh_pub \($v) \($s) \($i): no row"
+        elif ([$m.p50_ms, $m.p99_ms, $m.cpu_pct] | map(type == "number" and . > 0) | all) | not
+          then "mesh_pub \($v) \($s) \($i): p50_ms, p99_ms or cpu_pct missing or not positive"
+        elif $m.p50_ms > $m.p99_ms or $m.p99_ms > 100 then "mesh_pub \($v) \($s) \($i): p50 \($m.p50_ms) p99 \($m.p99_ms) ms"
+        elif $m.loss_ratio != 0 then "mesh_pub \($v) \($s) \($i): lost \($m.loss_ratio) of the samples (RELIABLE)"
+        elif $m.samples != 480 * $s then "mesh_pub \($v) \($s) \($i): \($m.samples) samples, not \(480 * $s)"
+        elif $i == "hcosim" and ($m.p99_ratio_to_bare | type) != "number" then "mesh_pub \($v) \($s): no ratio to bare"
+        else empty end])
+  | .[]' "$f") || fail "jq could not read $f"
+[ -z "$problems" ] || fail "dds rows: $problems"
+
+# The report: its p99 goal's verdict follows from the rows.
+md="$WORK/b/index.md"
+[ -s "$md" ] || fail "no $md"
+grep -q '^Written by `hcosim bench dds --quick --domain' "$md" || fail "index.md does not name its command"
+grep -q '^### mesh_pub$' "$md" || fail "no mesh_pub table"
+[ "$(grep -cE '^\| (1000|10000|100000) \| (1|3) \| (bare|hcosim) \| 60 \|' "$md")" -eq 12 ] ||
+  fail "expected 12 mesh_pub table rows: $(grep -A16 '^### mesh_pub' "$md")"
+grep -qF -- '- Goal: no sample lost with reliable QoS (`loss_ratio` at most 0 in every `mesh_pub` row): **met**' "$md" ||
+  fail "loss goal not reported met: $(grep 'Goal' "$md")"
+worst=$(jq '[.rows[] | select(.name == "mesh_pub" and .params.impl == "hcosim") | .metrics.p99_ratio_to_bare] | max' "$f")
+verdict=$(awk -v w="$worst" 'BEGIN { print (w <= 1.2 ? "**met**" : "**not met**") }')
+grep -qF "times bare Fast DDS's (\`p99_ratio_to_bare\` at most 1.2 in every \`mesh_pub\` row with impl hcosim): $verdict" "$md" ||
+  fail "p99 goal should be $verdict (worst ratio $worst): $(grep 'Goal' "$md")"
+for png in dds_mesh_pub_p99_ms.png dds_mesh_pub_cpu_pct.png; do
+  grep -qF "]($png)" "$md" || fail "index.md does not show $png"
+  [ "$(head -c 8 "$WORK/b/$png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] || fail "$png is not a PNG"
 done
-grep -qE '"p99_ratio_to_bare":[0-9.e+-]+' "$f" || fail "no ratio to bare"
-grep -qE '"loss_ratio":(0|0\.0[0-9]*|[0-9.e-]+)' "$f" || fail "no loss ratio"
+grep -q '^| fastdds | 2\.9\.1 |$' "$md" || fail "no machine section: $(tail -12 "$md")"
+
 err=$("$BIN/hcosim" bench nosuch --out "$WORK/b" 2>&1); code=$?
 [ $code -eq 2 ] && echo "$err" | grep -q "unknown suite 'nosuch' (suites: dds, massspring, haptic, hybrid, rigid, tracking, arview, all)" || fail "unknown suite: $code $err"
-echo "bench_test: ok"
-cat "$f"
+echo "bench_test: ok (worst hcosim/bare p99 ratio $worst)"

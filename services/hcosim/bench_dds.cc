@@ -1,0 +1,598 @@
+// bench dds: the transport, hcosim's runtime against bare Fast DDS in the
+// same run.
+//
+// rtt: 1 kHz HapticState -> ForceFeedback round trips between two
+//   processes; the far end answers each sample at once (`hcosim bench-peer`).
+// mesh_pub: DeformedMesh of `vertices` vertices (positions and normals,
+//   24 bytes a vertex) written at 60 Hz by this process to `subscribers`
+//   reader processes. Latency is the reader's CLOCK_REALTIME at take minus
+//   the sample's stamp.wall_time_ns set just before write, pooled over the
+//   readers; loss_ratio counts samples written but not taken; cpu_pct is the
+//   CPU time of the writer's and every reader's process over the writing
+//   window, in % of one core. Each configuration runs in rounds (4 of 120
+//   samples quick, 6 of 200 full), the impls taking turns to go first;
+//   figures pool every round. p99_split_ratio compares one impl's p99 over
+//   its odd rounds with that over its even ones (the larger over the
+//   smaller): a ratio to bare within it is within the machine's noise. `impl` hcosim: rt::Participant with
+//   deploy/qos.xml's transports and "state" profile, rt::Writer, rt::Reader
+//   (which validates every sample). `impl` bare: Fast DDS alone, the same
+//   transports (shared memory with an 8 MiB segment, UDPv4) and QoS
+//   (RELIABLE, VOLATILE, writer KEEP_LAST 1, readers KEEP_LAST 16) set in
+//   code, the same bytes.
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <thread>
+
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
+
+#include "bench.h"
+#include "cli.h"
+#include "service.h"
+#include "validate.h"
+
+namespace fs = std::filesystem;
+
+namespace hcosim::cli {
+namespace {
+
+using namespace eprosima::fastdds::dds;
+
+// ---- bare Fast DDS endpoints
+
+// Default participant QoS (builtin transports) unless `mesh_transports`:
+// then deploy/qos.xml's shared memory (8 MiB segment) and UDPv4, set in code.
+DomainParticipant* bare_participant(int domain, bool mesh_transports) {
+  DomainParticipantQos q;  // constructed, not PARTICIPANT_QOS_DEFAULT: no XML profile applies
+  if (mesh_transports) {
+    auto shm = std::make_shared<eprosima::fastdds::rtps::SharedMemTransportDescriptor>();
+    shm->segment_size(8 * 1024 * 1024);
+    shm->port_queue_capacity(1024);
+    q.transport().use_builtin_transports = false;
+    q.transport().user_transports = {shm, std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>()};
+  }
+  DomainParticipant* p = DomainParticipantFactory::get_instance()->create_participant(domain, q);
+  if (!p) throw std::runtime_error("bench: Fast DDS cannot create a participant on domain " + std::to_string(domain));
+  return p;
+}
+
+void destroy(DomainParticipant* p) {
+  p->delete_contained_entities();
+  DomainParticipantFactory::get_instance()->delete_participant(p);
+}
+
+template <class T>
+Topic* bare_topic(DomainParticipant* p, const char* name) {
+  TypeSupport ts(new typename rt::TopicOf<T>::PubSub());
+  ts.register_type(p, rt::TopicOf<T>::type_name);
+  return p->create_topic(name, rt::TopicOf<T>::type_name, TOPIC_QOS_DEFAULT);
+}
+
+// Round trips: BEST_EFFORT and KEEP_LAST 1 set in code, default transports.
+struct Bare {
+  DomainParticipant* participant;
+  DataWriter* writer;
+  DataReader* reader;
+
+  template <class Out, class In>
+  static Bare make(int domain, const char* out_topic, const char* in_topic) {
+    Bare b;
+    b.participant = bare_participant(domain, false);
+    DataWriterQos wq = DATAWRITER_QOS_DEFAULT;
+    wq.reliability().kind = BEST_EFFORT_RELIABILITY_QOS;
+    wq.history().kind = KEEP_LAST_HISTORY_QOS;
+    wq.history().depth = 1;
+    DataReaderQos rq = DATAREADER_QOS_DEFAULT;
+    rq.reliability().kind = BEST_EFFORT_RELIABILITY_QOS;
+    rq.history().kind = KEEP_LAST_HISTORY_QOS;
+    rq.history().depth = 1;
+    b.writer = b.participant->create_publisher(PUBLISHER_QOS_DEFAULT)
+                   ->create_datawriter(bare_topic<Out>(b.participant, out_topic), wq);
+    b.reader = b.participant->create_subscriber(SUBSCRIBER_QOS_DEFAULT)
+                   ->create_datareader(bare_topic<In>(b.participant, in_topic), rq);
+    return b;
+  }
+};
+
+// ---- rtt
+
+// The far end's endpoints: hcosim's runtime, or Fast DDS with nothing of ours.
+struct Pong {
+  std::function<bool()> wait;  // an unread HapticState is there
+  std::function<bool(HapticState&)> take;
+  std::function<void(ForceFeedback&)> write;
+};
+
+const eprosima::fastrtps::Duration_t kWait = rt::to_dds(std::chrono::milliseconds(100));
+
+int pong_loop(Pong& p, std::int64_t end) {
+  HapticState in;
+  ForceFeedback out;
+  out.source("bench");
+  while (!rt::stop_requested() && rt::mono_ns() < end) {
+    if (!p.wait()) continue;
+    while (p.take(in)) {
+      out.device(in.device());
+      out.answers_seq(in.seq());
+      out.force().z(-in.position().z() * 500.0);
+      p.write(out);
+    }
+  }
+  return 0;
+}
+
+void sleep_until(std::int64_t mono_ns) {
+  const timespec ts{time_t(mono_ns / 1'000'000'000), long(mono_ns % 1'000'000'000)};
+  clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr);
+}
+
+// Sends HapticState at 1 kHz for `seconds`, waiting up to 10 ms for the
+// ForceFeedback that answers each one.
+template <class Wait, class Take, class Write>
+Rtt ping(double seconds, Wait&& wait, Take&& take, Write&& write) {
+  Rtt r;
+  HapticState s;
+  s.device("bench");
+  s.orientation().w(1.0);
+  const std::int64_t period = 1'000'000, start = rt::mono_ns();
+  const std::uint64_t n = std::uint64_t(seconds * 1000);
+  for (std::uint64_t k = 0; k < n; ++k) {
+    sleep_until(start + std::int64_t(k) * period);
+    s.seq(k);
+    s.position().z(1e-3 * double(k % 10));
+    const std::int64_t t0 = rt::mono_ns();
+    write(s);
+    ++r.sent;
+    bool answered = false;
+    while (!answered && rt::mono_ns() - t0 < 10'000'000)
+      if (wait()) answered = take(k);
+    if (answered) r.us.add((rt::mono_ns() - t0) * 1e-3);
+    else ++r.lost;
+  }
+  return r;
+}
+
+// Waits up to 10 s for `want` matches on both counts.
+void await_match(const std::function<int()>& writers_readers, int want) {
+  const std::int64_t deadline = rt::mono_ns() + 10'000'000'000;
+  while (writers_readers() < want && rt::mono_ns() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+}
+
+Row rtt_row(const std::string& impl, const Rtt& r) {
+  Row row{"rtt", {{"impl", impl}, {"rate_hz", 1000.0}, {"payload", std::string("HapticState/ForceFeedback")}}, {}};
+  row.metrics = {{"p50_us", r.us.percentile(0.5)},
+                 {"p99_us", r.us.percentile(0.99)},
+                 {"p999_us", r.us.percentile(0.999)},
+                 {"loss_ratio", r.sent ? double(r.lost) / double(r.sent) : 1.0},
+                 {"samples", double(r.sent)}};
+  return row;
+}
+
+Rtt hcosim_rtt(int domain, double seconds) {
+  const pid_t peer = start_peer("hcosim", domain, seconds);
+  Rtt r;
+  {
+    rt::Participant p(domain, "bench");
+    rt::Writer<HapticState> w(p);
+    rt::Reader<ForceFeedback> rd(p, [](const ForceFeedback& s) { return validate(s); });
+    await_match([&] { return std::min(w.matched(), rd.matched()); }, 1);
+    r = ping(
+        seconds, [&] { return rd.wait(std::chrono::milliseconds(10)); },
+        [&](std::uint64_t k) {
+          bool hit = false;
+          rd.take([&](const ForceFeedback& f) { hit = hit || f.answers_seq() == k; });
+          return hit;
+        },
+        [&](HapticState& s) { w.write(s); });
+  }
+  stop_peer(peer);
+  return r;
+}
+
+// ---- mesh_pub
+
+constexpr double kMeshRateHz = 60;
+constexpr int kReaderDepth = 16;
+
+// A sheet of `vertices` vertices, 1 mm apart, normals up.
+DeformedMesh mesh_sample(int vertices) {
+  DeformedMesh m;
+  m.mesh("bench");
+  m.topology_version(1);
+  m.positions().resize(3 * std::size_t(vertices));
+  m.normals().assign(3 * std::size_t(vertices), 0.0f);
+  const int side = int(std::ceil(std::sqrt(double(vertices))));
+  for (int i = 0; i < vertices; ++i) {
+    m.positions()[3 * i] = 1e-3f * float(i % side);
+    m.positions()[3 * i + 1] = 1e-3f * float(i / side);
+    m.normals()[3 * i + 2] = 1.0f;
+  }
+  return m;
+}
+
+double cpu_s() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+// What one reader process saw: written by `bench-peer --role mesh` to its
+// --out file as "received rejected cpu_s\n" and "seq latency_ms" a sample.
+struct Seen {
+  double received = 0, rejected = 0, cpu_s = 0;
+  std::vector<std::uint64_t> seq;
+  std::vector<double> ms;
+};
+
+Seen read_seen(const fs::path& file) {
+  Seen s;
+  std::ifstream in(file);
+  if (!(in >> s.received >> s.rejected >> s.cpu_s))
+    throw std::runtime_error("bench dds: a mesh reader wrote no result to " + file.string());
+  std::uint64_t k;
+  for (double v; in >> k >> v;) s.seq.push_back(k), s.ms.push_back(v);
+  return s;
+}
+
+struct Writing {
+  std::uint64_t written = 0, refused = 0;
+  double cpu_s = 0, window_s = 0;
+};
+
+// The readers that matched the writer from their side: each says so with
+// FILE.ready. Until then a reader drops what it receives, and the writer's
+// KEEP_LAST 1 history no longer holds it when the reader asks again: that
+// is start-up, not loss, and is not measured.
+int ready(const std::vector<fs::path>& files) {
+  int n = 0;
+  for (const fs::path& f : files) n += fs::exists(f.string() + ".ready");
+  return n;
+}
+
+// Writes `count` samples at 60 Hz once every reader is matched both ways;
+// the writer's own CPU time over the window.
+template <class Matched, class Write, class Acked>
+Writing write_meshes(int vertices, int count, const std::vector<fs::path>& readers, Matched&& matched, Write&& write,
+                     Acked&& acked) {
+  const int want = int(readers.size());
+  await_match([&] { return std::min(matched(), ready(readers)); }, want);
+  if (matched() < want || ready(readers) < want)
+    throw std::runtime_error("bench dds: of " + std::to_string(want) + " mesh readers, " + std::to_string(matched()) +
+                             " matched the writer and " + std::to_string(ready(readers)) +
+                             " matched it back in 10 s");
+  DeformedMesh m = mesh_sample(vertices);
+  Writing w;
+  const double cpu0 = cpu_s();
+  const std::int64_t start = rt::mono_ns(), period = std::int64_t(1e9 / kMeshRateHz);
+  for (int k = 0; k < count && !rt::stop_requested(); ++k) {
+    sleep_until(start + k * period);
+    m.positions()[2] = 1e-4f * float(k % 100);  // no two samples alike
+    m.stamp().step(std::uint64_t(k));
+    m.stamp().sim_time_ns(k * period);
+    m.stamp().wall_time_ns(rt::wall_ns());
+    if (write(m)) ++w.written;
+    else ++w.refused;
+  }
+  acked();
+  w.window_s = (rt::mono_ns() - start) * 1e-9;
+  w.cpu_s = cpu_s() - cpu0;
+  return w;
+}
+
+pid_t start_mesh_reader(const std::string& impl, int domain, int count, const fs::path& out) {
+  const std::string self = fs::read_symlink("/proc/self/exe").string();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    execl(self.c_str(), self.c_str(), "bench-peer", "--role", "mesh", "--impl", impl.c_str(), "--domain",
+          std::to_string(domain).c_str(), "--count", std::to_string(count).c_str(), "--out", out.c_str(), "--duration",
+          std::to_string(count / kMeshRateHz + 30).c_str(), nullptr);
+    _exit(127);
+  }
+  return pid;
+}
+
+// Waits up to `seconds` for `pid`, then stops it; true if it exited 0.
+bool reap(pid_t pid, double seconds) {
+  int status = 0;
+  const std::int64_t deadline = rt::mono_ns() + std::int64_t(seconds * 1e9);
+  while (waitpid(pid, &status, WNOHANG) == 0) {
+    if (rt::mono_ns() > deadline) {
+      kill(pid, SIGTERM);
+      waitpid(pid, &status, 0);
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+// One impl's samples over every round of a configuration.
+struct MeshTotals {
+  rt::Window ms{1 << 20};
+  rt::Window half[2] = {rt::Window{1 << 20}, rt::Window{1 << 20}};  // odd and even rounds apart
+  double written = 0, received = 0, refused = 0, rejected = 0, cpu_s = 0, window_s = 0;
+};
+
+// One round: `count` samples to `readers` fresh reader processes.
+void mesh_round(const Context& c, const std::string& impl, int vertices, int readers, int count, int round,
+                MeshTotals& t) {
+  const fs::path dir = c.out / "dds_run";
+  fs::create_directories(dir);
+  std::vector<pid_t> pids;
+  std::vector<fs::path> files;
+  for (int k = 0; k < readers; ++k) {
+    files.push_back(dir / (impl + "_" + std::to_string(vertices) + "_" + std::to_string(k) + ".txt"));
+    fs::remove(files.back());
+    fs::remove(files.back().string() + ".ready");
+    pids.push_back(start_mesh_reader(impl, c.domain, count, files.back()));
+  }
+  const auto ack = std::chrono::seconds(5);
+  Writing w;
+  if (impl == "bare") {
+    DomainParticipant* p = bare_participant(c.domain, true);
+    DataWriterQos q = DATAWRITER_QOS_DEFAULT;
+    q.reliability().kind = RELIABLE_RELIABILITY_QOS;
+    q.durability().kind = VOLATILE_DURABILITY_QOS;
+    q.history().kind = KEEP_LAST_HISTORY_QOS;
+    q.history().depth = 1;
+    DataWriter* dw = p->create_publisher(PUBLISHER_QOS_DEFAULT)
+                         ->create_datawriter(bare_topic<DeformedMesh>(p, rt::TopicOf<DeformedMesh>::name), q);
+    w = write_meshes(
+        vertices, count, files,
+        [&] {
+          PublicationMatchedStatus s;
+          dw->get_publication_matched_status(s);
+          return s.current_count;
+        },
+        [&](DeformedMesh& m) { return dw->write(&m); }, [&] { dw->wait_for_acknowledgments(rt::to_dds(ack)); });
+    destroy(p);
+  } else {
+    rt::Participant p(c.domain, "bench");
+    rt::Writer<DeformedMesh> dw(p);
+    w = write_meshes(
+        vertices, count, files, [&] { return dw.matched(); }, [&](DeformedMesh& m) { return dw.write(m); },
+        [&] { dw.wait_acknowledged(ack); });
+  }
+  t.written += double(count) * readers, t.refused += double(w.refused), t.cpu_s += w.cpu_s, t.window_s += w.window_s;
+  for (int k = 0; k < readers; ++k) {
+    if (!reap(pids[std::size_t(k)], 5))
+      throw std::runtime_error("bench dds: mesh reader " + std::to_string(k) + " failed; see " + files[std::size_t(k)].string());
+    const Seen s = read_seen(files[std::size_t(k)]);
+    t.received += s.received, t.rejected += s.rejected, t.cpu_s += s.cpu_s;
+    for (double v : s.ms) t.ms.add(v), t.half[round % 2].add(v);
+  }
+}
+
+Row mesh_row(const std::string& impl, int vertices, int readers, const MeshTotals& t) {
+  return {"mesh_pub",
+          {{"vertices", double(vertices)}, {"subscribers", double(readers)}, {"impl", impl}, {"rate_hz", kMeshRateHz},
+           {"bytes", 24.0 * vertices}},
+          {{"p50_ms", t.ms.percentile(0.5)},
+           {"p99_ms", t.ms.percentile(0.99)},
+           {"loss_ratio", 1 - t.received / t.written},
+           {"cpu_pct", 100 * t.cpu_s / t.window_s},
+           {"samples", t.written},
+           {"refused_writes", t.refused},
+           {"rejected", t.rejected},
+           // The same impl measured twice (odd rounds, even rounds): how far
+           // apart two p99s of one thing fall on this machine.
+           {"p99_split_ratio", std::max(t.half[0].percentile(0.99) / t.half[1].percentile(0.99),
+                                        t.half[1].percentile(0.99) / t.half[0].percentile(0.99))}}};
+}
+
+std::vector<Row> dds_rows(const Context& c) {
+  const double seconds = c.quick ? 5 : 30;
+  std::vector<Row> rows;
+  // Bare first, then hcosim, in the same run: only their ratio is meaningful.
+  progress("dds rtt bare Fast DDS, " + std::to_string(int(seconds)) + " s at 1 kHz");
+  rows.push_back(rtt_row("bare", bare_rtt(c.domain, seconds)));
+  progress("dds rtt hcosim runtime, " + std::to_string(int(seconds)) + " s at 1 kHz");
+  rows.push_back(rtt_row("hcosim", hcosim_rtt(c.domain, seconds)));
+  const double bare_p50 = rows[0].metrics[0].second, bare_p99 = rows[0].metrics[1].second;
+  rows[1].metrics.push_back({"p50_ratio_to_bare", rows[1].metrics[0].second / bare_p50});
+  rows[1].metrics.push_back({"p99_ratio_to_bare", rows[1].metrics[1].second / bare_p99});
+
+  // Rounds alternate which impl goes first, so that a machine growing
+  // busier or quieter during a configuration favours neither.
+  const int count = int((c.quick ? 2 : 3.33) * kMeshRateHz), rounds = c.quick ? 4 : 6;
+  for (const int vertices : {1000, 10000, 100000})
+    for (const int readers : {1, 3}) {
+      MeshTotals bare_t, ours_t;
+      for (int round = 0; round < rounds; ++round)
+        for (const bool first : {true, false}) {
+          const bool is_bare = first == (round % 2 == 0);
+          const std::string impl = is_bare ? "bare" : "hcosim";
+          progress("dds mesh_pub " + impl + ": " + std::to_string(vertices) + " vertices to " + std::to_string(readers) +
+                   " reader(s), round " + std::to_string(round + 1) + " of " + std::to_string(rounds) + ", " +
+                   std::to_string(count) + " samples at 60 Hz");
+          mesh_round(c, impl, vertices, readers, count, round, is_bare ? bare_t : ours_t);
+        }
+      const Row bare = mesh_row("bare", vertices, readers, bare_t);
+      Row ours = mesh_row("hcosim", vertices, readers, ours_t);
+      ours.metrics.push_back({"p50_ratio_to_bare", ours.metrics[0].second / bare.metrics[0].second});
+      ours.metrics.push_back({"p99_ratio_to_bare", ours.metrics[1].second / bare.metrics[1].second});
+      rows.push_back(bare);
+      rows.push_back(ours);
+    }
+  return rows;
+}
+
+// One reader of mesh_pub: takes DeformedMesh until the last of `count`
+// arrives or it is stopped, then writes what it saw (see Seen).
+int mesh_reader(const std::string& impl, int domain, int count, const fs::path& out, std::int64_t end) {
+  Seen seen;
+  double cpu0 = -1;
+  const auto got = [&](const DeformedMesh& m) {
+    if (cpu0 < 0) cpu0 = cpu_s();
+    ++seen.received;
+    seen.seq.push_back(m.stamp().step());
+    seen.ms.push_back((rt::wall_ns() - m.stamp().wall_time_ns()) * 1e-6);
+    return m.stamp().step() + 1 >= std::uint64_t(count);
+  };
+  bool last = false, said = false;
+  // Tells the writer this reader has matched it (see ready()).
+  const auto say_ready = [&](int matched) {
+    if (!said && matched > 0) said = bool(std::ofstream(out.string() + ".ready") << "matched\n");
+  };
+  if (impl == "bare") {
+    DomainParticipant* p = bare_participant(domain, true);
+    DataReaderQos q = DATAREADER_QOS_DEFAULT;
+    q.reliability().kind = RELIABLE_RELIABILITY_QOS;
+    q.durability().kind = VOLATILE_DURABILITY_QOS;
+    q.history().kind = KEEP_LAST_HISTORY_QOS;
+    q.history().depth = kReaderDepth;
+    DataReader* r = p->create_subscriber(SUBSCRIBER_QOS_DEFAULT)
+                        ->create_datareader(bare_topic<DeformedMesh>(p, rt::TopicOf<DeformedMesh>::name), q);
+    DeformedMesh m;
+    SampleInfo info;
+    while (!last && !rt::stop_requested() && rt::mono_ns() < end) {
+      SubscriptionMatchedStatus sm;
+      r->get_subscription_matched_status(sm);
+      say_ready(sm.current_count);
+      if (!r->wait_for_unread_message(rt::to_dds(std::chrono::milliseconds(20)))) continue;
+      while (r->take_next_sample(&m, &info) == ReturnCode_t::RETCODE_OK)
+        if (info.valid_data) last = got(m) || last;
+    }
+    destroy(p);
+  } else {
+    rt::Participant p(domain, "bench_mesh_reader");
+    rt::Rejections rejected;
+    rt::Reader<DeformedMesh> r(
+        p, [](const DeformedMesh& m) { return validate(m); }, &rejected, rt::TopicOf<DeformedMesh>::qos, kReaderDepth);
+    while (!last && !rt::stop_requested() && rt::mono_ns() < end) {
+      say_ready(r.matched());
+      if (r.wait(std::chrono::milliseconds(20))) r.take([&](const DeformedMesh& m) { last = got(m) || last; });
+    }
+    seen.rejected = double(rejected.count);
+  }
+  std::ofstream f(out);
+  f << seen.received << " " << seen.rejected << " " << (cpu0 < 0 ? 0.0 : cpu_s() - cpu0) << "\n";
+  for (std::size_t k = 0; k < seen.ms.size(); ++k) f << seen.seq[k] << " " << seen.ms[k] << "\n";
+  return f ? 0 : 1;
+}
+
+}  // namespace
+
+pid_t start_peer(const std::string& impl, int domain, double seconds) {
+  const std::string self = fs::read_symlink("/proc/self/exe").string();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    execl(self.c_str(), self.c_str(), "bench-peer", "--impl", impl.c_str(), "--domain",
+          std::to_string(domain).c_str(), "--duration", std::to_string(seconds + 30).c_str(), nullptr);
+    _exit(127);
+  }
+  return pid;
+}
+
+void stop_peer(pid_t pid) {
+  kill(pid, SIGTERM);
+  int status;
+  waitpid(pid, &status, 0);
+}
+
+Rtt bare_rtt(int domain, double seconds) {
+  const pid_t peer = start_peer("bare", domain, seconds);
+  Bare b = Bare::make<HapticState, ForceFeedback>(domain, "HapticState", "ForceFeedback");
+  await_match(
+      [&] {
+        PublicationMatchedStatus pm;
+        SubscriptionMatchedStatus sm;
+        b.writer->get_publication_matched_status(pm);
+        b.reader->get_subscription_matched_status(sm);
+        return std::min(pm.current_count, sm.current_count);
+      },
+      1);
+  ForceFeedback f;
+  SampleInfo info;
+  Rtt r = ping(
+      seconds, [&] { return b.reader->wait_for_unread_message(rt::to_dds(std::chrono::milliseconds(10))); },
+      [&](std::uint64_t k) {
+        bool hit = false;
+        while (b.reader->take_next_sample(&f, &info) == ReturnCode_t::RETCODE_OK)
+          hit = hit || (info.valid_data && f.answers_seq() == k);
+        return hit;
+      },
+      [&](HapticState& s) { b.writer->write(&s); });
+  destroy(b.participant);
+  stop_peer(peer);
+  return r;
+}
+
+Suite dds_suite() {
+  Suite s{"dds",
+          "the DDS transport between processes: 1 kHz haptic round trips and 60 Hz deformed meshes, hcosim's runtime "
+          "against bare Fast DDS in the same run",
+          dds_rows};
+  s.tables = {{"rtt",
+               "HapticState written at 1 kHz, answered at once by a ForceFeedback from another process; time from "
+               "write to the answer's take, pooled over every tick, hcosim's runtime on both ends against Fast DDS "
+               "alone (BEST_EFFORT, KEEP_LAST 1)."},
+              {"mesh_pub",
+               "DeformedMesh (24 bytes a vertex) written at 60 Hz to 1 or 3 reader processes, RELIABLE; latency from "
+               "write to take pooled over readers; cpu_pct is the writer's and readers' processes together, % of one "
+               "core; hcosim's runtime (with sample validation) against a bare Fast DDS writer and readers of the "
+               "same bytes, transports and QoS, in alternating rounds; p99_split_ratio is one impl's p99 over its odd "
+               "rounds against its even ones, how far two p99s of the same thing fall apart on this machine."}};
+  s.plots = {{"mesh_pub", "vertices", "p99_ms", "vertices per mesh", "p99 latency (ms)", {"impl", "subscribers"}, {},
+              {"impl", "bare"}},
+             {"mesh_pub", "vertices", "cpu_pct", "vertices per mesh", "CPU (% of one core)", {"impl", "subscribers"}, {},
+              {"impl", "bare"}}};
+  s.goals = {{"no sample lost with reliable QoS", "mesh_pub", "loss_ratio", 0},
+             {"hcosim's p99 within 1.2 times bare Fast DDS's", "mesh_pub", "p99_ratio_to_bare", 1.2, "impl", "hcosim"}};
+  return s;
+}
+
+int bench_peer(const std::vector<std::string>& argv) {
+  const Args a = parse(argv, {"--impl", "--domain", "--duration", "--role", "--count", "--out"}, {});
+  const int domain = domain_of(a);
+  const std::int64_t end = rt::mono_ns() + std::int64_t(a.number("--duration", 60) * 1e9);
+  const std::string impl = a.get("--impl", "");
+  if (impl != "bare" && impl != "hcosim") throw std::invalid_argument("bench-peer: --impl must be bare or hcosim");
+  rt::install_stop_handlers();
+  if (a.get("--role", "pong") == "mesh")
+    return mesh_reader(impl, domain, int(a.number("--count", 0)), a.get("--out", "mesh_reader.txt"), end);
+  if (impl == "bare") {
+    Bare b = Bare::make<ForceFeedback, HapticState>(domain, "ForceFeedback", "HapticState");
+    SampleInfo info;
+    Pong p{[&] { return b.reader->wait_for_unread_message(kWait); },
+           [&](HapticState& s) {
+             while (b.reader->take_next_sample(&s, &info) == ReturnCode_t::RETCODE_OK)
+               if (info.valid_data) return true;
+             return false;
+           },
+           [&](ForceFeedback& f) { b.writer->write(&f); }};
+    const int code = pong_loop(p, end);
+    destroy(b.participant);
+    return code;
+  }
+  rt::Options o;
+  o.name = "bench_peer";
+  o.domain = domain;
+  o.rate_hz = 1000;
+  o.step_s = 0.001;
+  o.qos_file = rt::default_qos_file();
+  rt::Service svc(o);
+  rt::Reader<HapticState> r = svc.reader<HapticState>();
+  rt::Writer<ForceFeedback> w = svc.writer<ForceFeedback>();
+  Pong p{[&] { return r.wait(std::chrono::milliseconds(100)); },
+         [&](HapticState& s) {
+           bool got = false;
+           r.take([&](const HapticState& x) { s = x, got = true; });
+           return got;
+         },
+         [&](ForceFeedback& f) { w.write(f); }};
+  return pong_loop(p, end);
+}
+
+}  // namespace hcosim::cli
