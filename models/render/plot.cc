@@ -33,7 +33,7 @@ std::string tick_label(double v, double step) {
 
 void plot_scatter(const std::string& path, const std::string& title, const std::string& x_label,
                   const std::string& y_label, const std::vector<Series>& series, Axes axes) {
-  const int w = 1000, h = 700, left = 90, right = 220, top = 50, bottom = 70;
+  const int w = 1100, h = 700, left = 90, right = 300, top = 50, bottom = 70;
   cv::Mat img(h, w, CV_8UC3, cv::Scalar(255, 255, 255));
   // Positions along each axis: log10 of the value on a log axis.
   const auto fx = [&](double v) { return axes.log_x ? std::log10(v) : v; };
@@ -86,22 +86,32 @@ void plot_scatter(const std::string& path, const std::string& title, const std::
   cv::putText(img, title, {left, 24}, kFont, 0.65, kInk, 1, cv::LINE_AA);
   cv::putText(img, x_label, {left + (w - left - right) / 2 - 80, h - 20}, kFont, 0.55, kInk, 1, cv::LINE_AA);
   cv::putText(img, y_label, {10, top - 8}, kFont, 0.5, kInk, 1, cv::LINE_AA);
-  // Baselines (MuJoCo, bare Fast DDS, OpenCV ArUco) in black and greys.
+  // Baselines (MuJoCo, bare Fast DDS, OpenCV ArUco) in black and greys;
+  // past eight series the colours come round again with another marker.
   int baselines = 0;
   for (std::size_t k = 0; k < series.size(); ++k) {
     const Series& s = series[k];
-    const double grey = 110.0 * baselines;
+    const double grey = 110.0 * (baselines % 2);
+    const int shape = int(s.baseline ? baselines / 2 : k / 8) % 3;
     const cv::Scalar c = s.baseline ? (++baselines, cv::Scalar(grey, grey, grey)) : kPalette[k % 8];
+    const auto mark = [&](cv::Point q) {
+      if (shape == 0) cv::circle(img, q, 5, c, cv::FILLED, cv::LINE_AA);
+      if (shape == 1) cv::rectangle(img, q - cv::Point(4, 4), q + cv::Point(4, 4), c, cv::FILLED, cv::LINE_AA);
+      if (shape == 2) {
+        const std::vector<cv::Point> tri = {q + cv::Point(0, -6), q + cv::Point(5, 4), q + cv::Point(-5, 4)};
+        cv::fillConvexPoly(img, tri, c, cv::LINE_AA);
+      }
+    };
     // A thin line through a series' points in x order shows its trend.
     std::vector<cv::Point> points;
     for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i)
       if (ok(s.x[i], s.y[i])) points.emplace_back(px(s.x[i]), py(s.y[i]));
     std::sort(points.begin(), points.end(), [](const cv::Point& a, const cv::Point& b) { return a.x < b.x; });
     cv::polylines(img, points, false, c, 1, cv::LINE_AA);
-    for (const cv::Point& q : points) cv::circle(img, q, 5, c, cv::FILLED, cv::LINE_AA);
+    for (const cv::Point& q : points) mark(q);
     const int ly = top + 20 + 24 * int(k);
-    cv::circle(img, {w - right + 20, ly - 5}, 5, c, cv::FILLED, cv::LINE_AA);
-    cv::putText(img, s.label, {w - right + 32, ly}, kFont, 0.45, kInk, 1, cv::LINE_AA);
+    mark({w - right + 20, ly - 5});
+    cv::putText(img, s.label, {w - right + 32, ly}, kFont, 0.42, kInk, 1, cv::LINE_AA);
   }
   if (!cv::imwrite(path, img)) throw std::runtime_error("plot: cannot write " + path);
 }

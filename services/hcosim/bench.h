@@ -121,20 +121,25 @@ struct Figure {
 // Draws every plot of `s` from its rows into `dir` (bench_report.cc).
 std::vector<Figure> draw_plots(const Suite& s, const std::vector<Row>& rows, const std::filesystem::path& dir);
 
+using Machine = std::vector<std::pair<std::string, std::string>>;
+
+// The machine, compiler and libraries now, as (name, value) pairs.
+Machine machine();
+
 // One suite's outcome, for the report.
 struct Result {
   const Suite* suite;
   std::vector<Row> rows;
   std::vector<Figure> figures;
-  double seconds;     // wall time the suite took
-  std::string error;  // why the suite stopped, if it did
+  std::string command;  // what measured it
+  Machine machine;      // where and when
+  double seconds;       // wall time the suite took; NaN if not known
+  std::string error;    // why the suite stopped, if it did
 };
 
-// The machine, compiler and libraries, as (name, value) pairs.
-std::vector<std::pair<std::string, std::string>> machine();
-
 // Writes DIR/index.md: per suite its goals, tables and plots, and the
-// machine (bench_report.cc).
-void write_index(const std::filesystem::path& dir, const std::string& command, const std::vector<Result>& results);
+// machine (bench_report.cc). `redrawn_by` names the command when the
+// report is drawn again from the JSON files of an earlier run.
+void write_index(const std::filesystem::path& dir, const std::vector<Result>& results, const std::string& redrawn_by = "");
 
 }  // namespace hcosim::cli

@@ -405,7 +405,7 @@ std::vector<Row> dds_rows(const Context& c) {
 
   // Rounds alternate which impl goes first, so that a machine growing
   // busier or quieter during a configuration favours neither.
-  const int count = int((c.quick ? 2 : 3.33) * kMeshRateHz), rounds = c.quick ? 4 : 6;
+  const int count = c.quick ? 120 : 200, rounds = c.quick ? 4 : 6;
   for (const int vertices : {1000, 10000, 100000})
     for (const int readers : {1, 3}) {
       MeshTotals bare_t, ours_t;

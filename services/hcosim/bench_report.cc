@@ -104,7 +104,7 @@ std::string md_cell(std::string s) {
 
 }  // namespace
 
-std::vector<std::pair<std::string, std::string>> machine() {
+Machine machine() {
   utsname u{};
   uname(&u);
   char host[256] = {};
@@ -146,11 +146,11 @@ std::vector<Figure> draw_plots(const Suite& s, const std::vector<Row>& rows, con
       for (const auto& [name, points] : by_label) series.push_back(points);
       const std::string stem = std::string(s.name) + "_" + p.row + "_" + (group.empty() ? p.y : file_safe(group));
       const fs::path file = dir / (stem + ".png");
-      const std::string title = std::string(s.name) + " " + p.row + (group.empty() ? "" : " (" + group + ")") + ": " +
-                                p.y_label + " against " + p.x_label;
+      // The axes name the quantities; the title only says which rows.
+      const std::string title = std::string(s.name) + " " + p.row + (group.empty() ? "" : ", " + group);
       render::plot_scatter(file.string(), title, p.x_label, p.y_label, series, {p.log_x, p.log_y});
       std::cout << "wrote " << file.string() << "\n";
-      out.push_back({p.row, file, title});
+      out.push_back({p.row, file, title + ": " + p.y_label + " against " + p.x_label});
     }
   }
   return out;
@@ -232,18 +232,24 @@ void goal(std::ostream& md, const Goal& g, const std::vector<Row>& rows) {
 
 }  // namespace
 
-void write_index(const fs::path& dir, const std::string& command, const std::vector<Result>& results) {
+void write_index(const fs::path& dir, const std::vector<Result>& results, const std::string& redrawn_by) {
   std::ostringstream md;
   md << "# hcosim benchmark results\n\n";
-  md << "Written by `" << command << "`. Every figure below is measured by that command on the machine described at "
-        "the end; times are medians over repeats or percentiles over every sample, as each table says, and every "
-        "ratio to a peer (bare Fast DDS, MuJoCo, OpenCV) compares two measurements taken in the same run.\n\n";
+  std::vector<std::string> commands;
+  for (const Result& r : results)
+    if (std::find(commands.begin(), commands.end(), r.command) == commands.end()) commands.push_back(r.command);
+  md << "Measured by";
+  for (std::size_t k = 0; k < commands.size(); ++k) md << (k ? " and " : " ") << "`" << commands[k] << "`";
+  if (!redrawn_by.empty()) md << " (this report drawn again from its JSON files by `" << redrawn_by << "`)";
+  md << ". Every figure below is measured on the machine described at the end; times are medians over repeats or "
+        "percentiles over every sample, as each table says, and every ratio to a peer (bare Fast DDS, MuJoCo, OpenCV) "
+        "compares two measurements taken in the same run.\n\n";
   md << "| suite | what it measures | rows | wall time (s) | goals |\n|---|---|--:|--:|---|\n";
   for (const Result& r : results) {
     std::string goals;
     for (const Goal& g : r.suite->goals) goals += (goals.empty() ? "" : "; ") + g.text + ": " + (judge(g, r.rows).met() ? "met" : "**not met**");
     md << "| [" << r.suite->name << "](#" << r.suite->name << ") | " << md_cell(r.suite->what) << " | "
-       << r.rows.size() << " | " << text(std::round(r.seconds)) << " | "
+       << r.rows.size() << " | " << (std::isnan(r.seconds) ? "" : text(std::round(r.seconds))) << " | "
        << (r.error.empty() ? goals : "failed: " + md_cell(r.error)) << " |\n";
   }
   md << "\n";
@@ -269,8 +275,27 @@ void write_index(const fs::path& dir, const std::string& command, const std::vec
           md << "![" << f.caption << "](" << f.file.filename().string() << ")\n\n*" << f.caption << ".*\n\n";
     }
   }
+  // Each suite records when it finished: the date row spans them.
+  const auto without_date = [](Machine m) {
+    m.erase(std::remove_if(m.begin(), m.end(), [](const auto& kv) { return kv.first == "date"; }), m.end());
+    return m;
+  };
+  const auto date_of = [](const Machine& m) {
+    for (const auto& [k, v] : m)
+      if (k == "date") return v;
+    return std::string();
+  };
   md << "## Machine\n\n| | |\n|---|---|\n";
-  for (const auto& [k, v] : machine()) md << "| " << k << " | " << md_cell(v) << " |\n";
+  const Machine first = results.empty() ? machine() : results.front().machine;
+  for (const auto& [k, v] : first) {
+    std::string value = v;
+    if (k == "date" && results.size() > 1 && date_of(results.back().machine) != v)
+      value = "suites finished from " + v + " to " + date_of(results.back().machine);
+    md << "| " << k << " | " << md_cell(value) << " |\n";
+  }
+  for (const Result& r : results)
+    if (without_date(r.machine) != without_date(first))
+      md << "\n`" << r.suite->name << "` ran on another machine: see `" << r.suite->name << ".json`.\n";
   const fs::path file = dir / "index.md";
   std::ofstream(file) << md.str();
   std::cout << "wrote " << file.string() << "\n";

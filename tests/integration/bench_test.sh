@@ -1,7 +1,8 @@
 # hcosim bench dds --quick: DIR/dds.json in the documented shape, hcosim's
 # rows compared to bare Fast DDS measured in the same run, meshes delivered
 # without loss, and DIR/index.md reporting them with its goals judged from
-# the same rows, plots and the machine.
+# the same rows, plots and the machine; `bench report` draws the same
+# report again from the JSON file.
 source "$(dirname "$0")/lib.sh"
 timeout 300 "$BIN/hcosim" bench dds --quick --domain "$DOMAIN" --out "$WORK/b" >"$WORK/bench.log" 2>&1 ||
   fail "bench exited $?: $(tail -5 "$WORK/bench.log")"
@@ -32,7 +33,8 @@ problems=$(jq -r '
 # The report: its p99 goal's verdict follows from the rows.
 md="$WORK/b/index.md"
 [ -s "$md" ] || fail "no $md"
-grep -q '^Written by `hcosim bench dds --quick --domain' "$md" || fail "index.md does not name its command"
+grep -qF "Measured by \`hcosim bench dds --quick --domain $DOMAIN --out $WORK/b\`. " "$md" ||
+  fail "index.md does not name its command: $(sed -n 3p "$md")"
 grep -q '^### mesh_pub$' "$md" || fail "no mesh_pub table"
 [ "$(grep -cE '^\| (1000|10000|100000) \| (1|3) \| (bare|hcosim) \| 60 \|' "$md")" -eq 12 ] ||
   fail "expected 12 mesh_pub table rows: $(grep -A16 '^### mesh_pub' "$md")"
@@ -47,6 +49,15 @@ for png in dds_mesh_pub_p99_ms.png dds_mesh_pub_cpu_pct.png; do
   [ "$(head -c 8 "$WORK/b/$png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] || fail "$png is not a PNG"
 done
 grep -q '^| fastdds | 2\.9\.1 |$' "$md" || fail "no machine section: $(tail -12 "$md")"
+
+# `bench report` draws the same report again from dds.json alone.
+mv "$md" "$WORK/first.md"
+rm "$WORK"/b/*.png
+"$BIN/hcosim" bench report --out "$WORK/b" >"$WORK/report.log" 2>&1 || fail "bench report exited $?: $(cat "$WORK/report.log")"
+grep -qF "(this report drawn again from its JSON files by \`hcosim bench report --out $WORK/b\`)" "$md" ||
+  fail "the redrawn report does not say so: $(sed -n 3p "$md")"
+diff <(sed 1,4d "$WORK/first.md") <(sed 1,4d "$md") >"$WORK/report.diff" || fail "the redrawn report differs: $(head "$WORK/report.diff")"
+[ -s "$WORK/b/dds_mesh_pub_p99_ms.png" ] || fail "bench report drew no plot"
 
 err=$("$BIN/hcosim" bench nosuch --out "$WORK/b" 2>&1); code=$?
 [ $code -eq 2 ] && echo "$err" | grep -q "unknown suite 'nosuch' (suites: dds, massspring, haptic, hybrid, rigid, tracking, arview, all)" || fail "unknown suite: $code $err"
