@@ -275,7 +275,7 @@ void write_index(const fs::path& dir, const std::vector<Result>& results, const 
           md << "![" << f.caption << "](" << f.file.filename().string() << ")\n\n*" << f.caption << ".*\n\n";
     }
   }
-  // Each suite records when it finished: the date row spans them.
+  // Each suite records when it started: the date row spans them.
   const auto without_date = [](Machine m) {
     m.erase(std::remove_if(m.begin(), m.end(), [](const auto& kv) { return kv.first == "date"; }), m.end());
     return m;
@@ -287,10 +287,11 @@ void write_index(const fs::path& dir, const std::vector<Result>& results, const 
   };
   md << "## Machine\n\n| | |\n|---|---|\n";
   const Machine first = results.empty() ? machine() : results.front().machine;
+  std::string earliest = date_of(first), latest = earliest;  // ISO 8601 dates sort as text
+  for (const Result& r : results) earliest = std::min(earliest, date_of(r.machine)), latest = std::max(latest, date_of(r.machine));
   for (const auto& [k, v] : first) {
     std::string value = v;
-    if (k == "date" && results.size() > 1 && date_of(results.back().machine) != v)
-      value = "suites finished from " + v + " to " + date_of(results.back().machine);
+    if (k == "date" && earliest != latest) value = "suites started from " + earliest + " to " + latest;
     md << "| " << k << " | " << md_cell(value) << " |\n";
   }
   for (const Result& r : results)
