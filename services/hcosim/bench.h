@@ -55,13 +55,15 @@ struct Plot {
   bool log_x = true, log_y = true;
 };
 
-// A stated goal: `metric` is at most `max` in every row named `row` (whose
-// param `where` has the value `is`, when `where` is given).
+// A stated goal: `metric` is at most `bound` (at least, with `at_least`)
+// in every row named `row` (whose param `where` has the value `is`, when
+// `where` is given).
 struct Goal {
   std::string text;
   std::string row, metric;
-  double max;
+  double bound;
   std::string where = "", is = "";
+  bool at_least = false;
 };
 
 struct Suite {

@@ -272,6 +272,9 @@ Suite massspring_suite() {
                "larger error, in the same run."}};
   s.plots = {{"step", "ms_per_sim_s", "rel_error", "wall ms per simulated s", "relative error",
               {"integrator", "mujoco_integrator", "threshold"}, {"lattice"}, {"integrator", "mujoco"}}};
+  s.goals = {{"every MuJoCo row matched at equal or lower error by one of ours at least 20 times faster, on the "
+              "largest lattice both run",
+              "step", "speedup_at_equal_error", 20, "lattice", "dome4097", true}};
   return s;
 }
 

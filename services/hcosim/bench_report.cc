@@ -192,7 +192,7 @@ void table(std::ostream& md, const std::vector<const Row*>& rows) {
 // How the rows fare against a goal.
 struct Verdict {
   int rows = 0;
-  double worst = -INFINITY;
+  double worst = NAN;
   std::vector<std::string> misses;  // "value (params)" of each row over the bound
   bool met() const { return rows > 0 && misses.empty(); }
 };
@@ -203,9 +203,11 @@ Verdict judge(const Goal& g, const std::vector<Row>& rows) {
     const double* v = metric(r, g.metric);
     const Value* w = g.where.empty() ? nullptr : param(r, g.where);
     if (r.name != g.row || !v || (!g.where.empty() && (!w || text(*w) != g.is))) continue;
-    ++out.rows;
-    out.worst = std::isnan(*v) ? *v : std::max(out.worst, *v);
-    if (!(*v <= g.max)) {
+    // The worst so far; a NaN, once seen, stays the worst.
+    const bool first = out.rows++ == 0;
+    if (first || (!std::isnan(out.worst) && (std::isnan(*v) || (g.at_least ? *v < out.worst : *v > out.worst))))
+      out.worst = *v;
+    if (!(g.at_least ? *v >= g.bound : *v <= g.bound)) {
       std::string where;
       for (const auto& [k, pv] : r.params) where += (where.empty() ? "" : ", ") + k + " " + text(pv);
       out.misses.push_back(text(*v) + " (" + where + ")");
@@ -216,7 +218,8 @@ Verdict judge(const Goal& g, const std::vector<Row>& rows) {
 
 void goal(std::ostream& md, const Goal& g, const std::vector<Row>& rows) {
   const Verdict v = judge(g, rows);
-  md << "- Goal: " << g.text << " (`" << g.metric << "` at most " << text(g.max) << " in every `" << g.row << "` row"
+  md << "- Goal: " << g.text << " (`" << g.metric << "` at " << (g.at_least ? "least " : "most ") << text(g.bound)
+     << " in every `" << g.row << "` row"
      << (g.where.empty() ? "" : " with " + g.where + " " + g.is) << "): ";
   if (v.rows == 0) {
     md << "**not measured** (no such row)\n";
@@ -247,7 +250,10 @@ void write_index(const fs::path& dir, const std::vector<Result>& results, const 
   md << "| suite | what it measures | rows | wall time (s) | goals |\n|---|---|--:|--:|---|\n";
   for (const Result& r : results) {
     std::string goals;
-    for (const Goal& g : r.suite->goals) goals += (goals.empty() ? "" : "; ") + g.text + ": " + (judge(g, r.rows).met() ? "met" : "**not met**");
+    for (const Goal& g : r.suite->goals) {
+      const Verdict v = judge(g, r.rows);
+      goals += (goals.empty() ? "" : "; ") + g.text + ": " + (v.rows == 0 ? "not measured" : v.met() ? "met" : "**not met**");
+    }
     md << "| [" << r.suite->name << "](#" << r.suite->name << ") | " << md_cell(r.suite->what) << " | "
        << r.rows.size() << " | " << (std::isnan(r.seconds) ? "" : text(std::round(r.seconds))) << " | "
        << (r.error.empty() ? goals : "failed: " + md_cell(r.error)) << " |\n";

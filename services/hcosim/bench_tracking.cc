@@ -179,6 +179,10 @@ Suite tracking_suite() {
   s.plots = {{"detect", "ms_per_frame", "trans_err_p95_pct", "ms per frame (median)",
               "translation error p95 (% of distance)", {"detector", "decimate", "sigma"}, {"resolution", "condition"},
               {"detector", "aruco"}}};
+  s.goals = {{"hcosim's path within 0.2% of the distance (p95) on every sequence", "detect", "trans_err_p95_pct", 0.2,
+              "detector", "apriltag"},
+             {"hcosim's path within 0.4 deg (p95) on every sequence", "detect", "rot_err_p95_deg", 0.4, "detector",
+              "apriltag"}};
   return s;
 }
 
