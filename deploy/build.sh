@@ -1,11 +1,20 @@
 #!/usr/bin/env bash
 # Installs what is missing and builds hcosim (Release) into build/.
+# --sanitize: the same tree with AddressSanitizer and UndefinedBehaviorSanitizer
+# (RelWithDebInfo) into build-asan/ instead.
 # Used by run.sh and test.sh; safe to run again (incremental, ccache).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
+name=build
+args=(-DCMAKE_BUILD_TYPE=Release)
+if [ "${1:-}" = "--sanitize" ]; then
+  name=build-asan
+  args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DHCOSIM_SANITIZE=address,undefined)
+fi
+log="$root/$name.log"
 "$root/deploy/setup.sh"
-cmake -S "$root" -B "$root/build" -G Ninja -DCMAKE_BUILD_TYPE=Release > "$root/build.log" 2>&1 ||
-  { tail -n 30 "$root/build.log"; echo "hcosim: cmake failed, see build.log" >&2; exit 1; }
-echo "hcosim: building (log: build.log)"
-cmake --build "$root/build" -j "$(nproc)" >> "$root/build.log" 2>&1 ||
-  { grep -E "error|FAILED" "$root/build.log" | head -n 30; echo "hcosim: build failed, see build.log" >&2; exit 1; }
+cmake -S "$root" -B "$root/$name" -G Ninja "${args[@]}" > "$log" 2>&1 ||
+  { tail -n 30 "$log"; echo "hcosim: cmake failed, see $name.log" >&2; exit 1; }
+echo "hcosim: building $name/ (log: $name.log)"
+cmake --build "$root/$name" -j "$(nproc)" >> "$log" 2>&1 ||
+  { grep -E "error|FAILED" "$log" | head -n 30; echo "hcosim: build failed, see $name.log" >&2; exit 1; }

@@ -1,0 +1,9 @@
+// Camera intrinsics files (adapters/vision/calibration.h), read through
+// OpenCV's FileStorage.
+#include "fuzz_input.h"
+#include "vision/calibration.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const std::string path = hcosim::fuzz::scratch(data, size, ".yaml");
+  return hcosim::fuzz::refuse_or_accept([&] { hcosim::vision::read_intrinsics(path); });
+}
