@@ -29,7 +29,7 @@ constexpr double kParkedTipZ = 1.0;
 // where it is, so that a silent device cannot carry it through the scene.
 constexpr double kStaleState = 0.02;  // s
 // A sleeping body's state is repeated this often, for late subscribers.
-constexpr double kSleepingRepeat = 1.0;  // s
+constexpr double kSleepingRepeat = 0.2;  // s
 
 struct Item {
   std::string name;

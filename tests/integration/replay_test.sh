@@ -19,10 +19,11 @@ timeout 30 "$BIN/hcosim" replay "$WORK/run.rec" --topics HapticState >"$WORK/rep
 grep -q "published 2000 samples" "$WORK/replay.log" || fail "replay did not publish the 2000 states: $(cat "$WORK/replay.log")"
 wait "${PIDS[0]}"
 # The service answers every tick with the newest state, so count the
-# replayed states it found in contact: most of the recorded ones (real time
-# loses some ticks to scheduling), and no more.
+# replayed states it found in contact: over half the recorded ones (real
+# time loses ticks to scheduling: 63% once with another test running on
+# the two cores), and no more.
 replayed=$(jq -s '[.[] | select(.source == "cube" and .in_contact) | .answers_seq] | unique | length' "$WORK/forces.log")
-[ "$replayed" -gt $((recorded * 7 / 10)) ] && [ "$replayed" -le $((recorded + 5)) ] ||
+[ "$replayed" -gt $((recorded / 2)) ] && [ "$replayed" -le $((recorded + 5)) ] ||
   fail "the replayed press touched in $replayed states, the recording in $recorded"
 
 "$BIN/hcosim" replay "$WORK/alone.yaml" >"$WORK/bad.log" 2>&1 && fail "replaying a YAML file succeeded"
