@@ -5,12 +5,15 @@ set -euo pipefail
 
 # libqhull-dev: the mujoco CMake package names its include directory.
 # jq: the tests read bench reports with it.
+# clang, libclang-rt-14-dev: the sanitizer build and libFuzzer (deploy/fuzz.sh).
+# openssl: hcosim security init; tshark: the wire test of DDS Security.
 packages=(
   build-essential cmake ninja-build ccache pkg-config
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
   libeigen3-dev libopencv-dev libopencv-contrib-dev libapriltag-dev
   libmujoco-dev libqhull-dev libyaml-cpp-dev googletest libgtest-dev libbenchmark-dev
-  cyclonedds-dev cyclonedds-tools jq
+  cyclonedds-dev cyclonedds-tools jq clang libclang-rt-14-dev
+  openssl tshark
 )
 
 missing=()

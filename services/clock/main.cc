@@ -29,7 +29,6 @@ int run_clock(Options options) {
     for (const auto& s : load_deployment(options.deployment).services)
       if (s.unneeded.empty()) followers.insert(s.name);
   options.mode = Mode::kLockstep;
-  options.deployment.clear();  // the clock has no params of its own
   Service svc(options);
   Writer<ClockTick> ticks(svc.participant());
   Reader<StepDone> done = svc.reader<StepDone>();

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "security.h"
+
 namespace hcosim::cli {
 
 // Parsed arguments of one subcommand: positionals, --flag VALUE, --switch.
@@ -26,6 +28,10 @@ Args parse(const std::vector<std::string>& argv, const std::set<std::string>& fl
 // Domain from --domain, else $HCOSIM_DOMAIN, else 0.
 int domain_of(const Args& a);
 
+// DDS Security for a tool: --security DIR, else $HCOSIM_SECURITY, else
+// off; as --identity NAME, else "hcosim" (docs/security.md).
+rt::Security security_of(const Args& a);
+
 // The topics named by --topics T1,T2 (none: every topic); throws
 // std::invalid_argument naming one that is not in the contract.
 std::vector<std::string> topics_of(const Args& a);
@@ -41,6 +47,7 @@ int synth(const std::vector<std::string>& argv);
 int video(const std::vector<std::string>& argv);
 int export_recording(const std::vector<std::string>& argv);
 int replay(const std::vector<std::string>& argv);
+int security(const std::vector<std::string>& argv);
 int bench_peer(const std::vector<std::string>& argv);  // hidden: the far end of dds round trips
 
 }  // namespace hcosim::cli

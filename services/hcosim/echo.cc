@@ -32,14 +32,14 @@ int for_topic(const Args& a, const char* cmd, F&& f) {
 }  // namespace
 
 int echo(const std::vector<std::string>& argv) {
-  const Args a = parse(argv, {"--count", "--timeout", "--domain"}, {});
+  const Args a = parse(argv, {"--count", "--timeout", "--domain", "--security", "--identity"}, {});
   const double count = a.number("--count", 0);
   const double timeout = a.number("--timeout", 0);
   if (count < 0 || timeout < 0) throw std::invalid_argument("--count and --timeout must not be negative");
   return for_topic(a, "echo", [&](auto tag) {
     using T = typename decltype(tag)::type;
     rt::install_stop_handlers();
-    rt::Participant p(domain_of(a), "hcosim_echo");
+    rt::Participant p(domain_of(a), "hcosim_echo", rt::default_qos_file(), nullptr, false, security_of(a));
     // No validation: echo shows what is on the wire, bad samples included.
     rt::Reader<T> reader(p);
     const std::int64_t deadline = timeout > 0 ? rt::mono_ns() + std::int64_t(timeout * 1e9) : INT64_MAX;
@@ -64,13 +64,13 @@ int echo(const std::vector<std::string>& argv) {
 }
 
 int hz(const std::vector<std::string>& argv) {
-  const Args a = parse(argv, {"--duration", "--domain"}, {});
+  const Args a = parse(argv, {"--duration", "--domain", "--security", "--identity"}, {});
   const double duration = a.number("--duration", 0);
   if (duration < 0) throw std::invalid_argument("--duration must not be negative");
   return for_topic(a, "hz", [&](auto tag) {
     using T = typename decltype(tag)::type;
     rt::install_stop_handlers();
-    rt::Participant p(domain_of(a), "hcosim_hz");
+    rt::Participant p(domain_of(a), "hcosim_hz", rt::default_qos_file(), nullptr, false, security_of(a));
     rt::Reader<T> reader(p);
     const std::int64_t start = rt::mono_ns();
     const std::int64_t end = duration > 0 ? start + std::int64_t(duration * 1e9) : INT64_MAX;

@@ -91,7 +91,7 @@ int export_recording(const std::vector<std::string>& argv) {
 }
 
 int replay(const std::vector<std::string>& argv) {
-  const Args a = parse(argv, {"--topics", "--speed", "--domain", "--clock", "--wait"}, {});
+  const Args a = parse(argv, {"--topics", "--speed", "--domain", "--security", "--identity", "--clock", "--wait"}, {});
   if (a.positional.size() != 1)
     throw std::invalid_argument(
         "usage: hcosim replay REC [--topics T1,T2] [--speed X] [--clock sim|receive] [--wait S] [--domain D]");
@@ -113,7 +113,7 @@ int replay(const std::vector<std::string>& argv) {
   std::stable_sort(records.begin(), records.end(), [&](const rt::Record& x, const rt::Record& y) { return at(x) < at(y); });
 
   rt::install_stop_handlers();
-  rt::Participant p(domain_of(a), "hcosim_replay");
+  rt::Participant p(domain_of(a), "hcosim_replay", rt::default_qos_file(), nullptr, false, security_of(a));
   // One writer per topic, made before the first sample so readers can match.
   std::map<std::string, std::function<void(const rt::Record&)>> write;
   std::map<std::string, std::function<int()>> matched;

@@ -53,6 +53,13 @@ int domain_of(const Args& a) {
   return static_cast<int>(d);
 }
 
+rt::Security security_of(const Args& a) {
+  const char* env = std::getenv("HCOSIM_SECURITY");
+  rt::Security s{a.get("--security", env ? env : ""), a.get("--identity", rt::kToolIdentity)};
+  if (s.identity.empty()) throw std::invalid_argument("--identity needs a name");
+  return s;
+}
+
 std::vector<std::string> topics_of(const Args& a) {
   std::vector<std::string> topics;
   std::stringstream list(a.get("--topics", ""));
@@ -101,8 +108,18 @@ Commands:
         write a synthetic marker sequence (PNG frames, camera.yaml, truth.jsonl)
   video FILE
         count a video's frames, and those that are blank (one flat colour)
+  security init [DIR] [--deployment FILE] [--identities A,B] [--readers R] [--protection data|all]
+        [--days N] [--force|--keep]
+        make a test CA, a certificate per service of FILE (and for the tools,
+        the clock and A, B; R may only subscribe) and signed governance and
+        permissions documents in DIR, else FILE's security dir (docs/security.md);
+        a DIR that holds a CA is replaced with --force, kept with --keep;
+        --protection all also encrypts every RTPS message, not only payloads
+        and discovery
 
 The domain defaults to $HCOSIM_DOMAIN, else 0. Topics: docs/topics.md.
+topics, echo, hz, record and replay join a secure domain with --security DIR
+(else $HCOSIM_SECURITY) as --identity NAME (default hcosim).
 )";
 
 }  // namespace
@@ -127,6 +144,7 @@ int main(int argc, char** argv) {
     if (cmd == "video") return video(rest);
     if (cmd == "export") return export_recording(rest);
     if (cmd == "replay") return replay(rest);
+    if (cmd == "security") return security(rest);
     if (cmd == "bench-peer") return bench_peer(rest);
     std::cerr << "hcosim: unknown command '" << cmd << "'\n\n" << kUsage;
     return 2;

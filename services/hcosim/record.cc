@@ -24,7 +24,7 @@ int record_topics(const Args& a) {
   const double duration = a.number("--duration", 0);
   if (duration < 0) throw std::invalid_argument("--duration must not be negative");
   rt::install_stop_handlers();
-  rt::Participant p(domain_of(a), "hcosim_record");
+  rt::Participant p(domain_of(a), "hcosim_record", rt::default_qos_file(), nullptr, false, security_of(a));
   rt::Recorder recorder(p, a.positional[0], topics);
   const std::int64_t end = duration > 0 ? rt::mono_ns() + std::int64_t(duration * 1e9) : INT64_MAX;
   while (!rt::stop_requested() && rt::mono_ns() < end) {
@@ -39,7 +39,7 @@ int record_topics(const Args& a) {
 }  // namespace
 
 int record(const std::vector<std::string>& argv) {
-  const Args a = parse(argv, {"--out", "--device", "--duration", "--domain", "--topics"}, {});
+  const Args a = parse(argv, {"--out", "--device", "--duration", "--domain", "--security", "--identity", "--topics"}, {});
   if (!a.positional.empty()) return record_topics(a);
   const std::string out = a.get("--out", "");
   if (out.empty()) throw std::invalid_argument("record needs FILE (a recording) or --out FILE.csv (a haptic trajectory)");
@@ -51,7 +51,7 @@ int record(const std::vector<std::string>& argv) {
   csv.precision(9);
   csv << "time_s,x,y,z,buttons\n";
   rt::install_stop_handlers();
-  rt::Participant p(domain_of(a), "hcosim_record");
+  rt::Participant p(domain_of(a), "hcosim_record", rt::default_qos_file(), nullptr, false, security_of(a));
   rt::Reader<HapticState> reader(p, [](const HapticState& s) { return validate(s); });
   const std::int64_t end = duration > 0 ? rt::mono_ns() + std::int64_t(duration * 1e9) : INT64_MAX;
   std::uint64_t n = 0;

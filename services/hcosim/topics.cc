@@ -57,13 +57,13 @@ class Discovery : public DomainParticipantListener {
 }  // namespace
 
 int topics(const std::vector<std::string>& argv) {
-  const Args a = parse(argv, {"--domain", "--wait"}, {});
+  const Args a = parse(argv, {"--domain", "--security", "--identity", "--wait"}, {});
   if (!a.positional.empty()) throw std::invalid_argument("topics takes no positional argument");
   const double wait = a.number("--wait", 2.0);
   if (wait <= 0 || wait > 600) throw std::invalid_argument("--wait must be in (0, 600] s");
   Discovery discovery;
   {
-    rt::Participant p(domain_of(a), "hcosim_topics", rt::default_qos_file(), &discovery);
+    rt::Participant p(domain_of(a), "hcosim_topics", rt::default_qos_file(), &discovery, false, security_of(a));
     std::this_thread::sleep_for(std::chrono::duration<double>(wait));
     p.dds()->set_listener(nullptr);
   }

@@ -280,17 +280,27 @@ int up(const std::vector<std::string>& argv) {
     children.push_back(std::move(clock));
   }
 
+  // Every process's credentials, before any starts (docs/security.md).
+  const rt::Security security{d.security, rt::kToolIdentity};
+  if (security.on()) try {
+      rt::check_credentials(security);
+      for (const auto& c : children) rt::check_credentials({d.security, c.name});
+    } catch (const std::runtime_error& e) {
+      throw rt::ConfigError(d.security_where + ": " + e.what());
+    }
+
   struct sigaction sa {};
   sa.sa_handler = on_signal;
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
 
-  std::printf("hcosim up: %s, domain %d, %s, %zu service(s)%s\n", d.file.c_str(), d.domain, rt::to_string(d.mode),
-              children.size(), d.duration_s > 0 ? "" : ", until Ctrl-C");
+  std::printf("hcosim up: %s, domain %d, %s, %zu service(s)%s%s\n", d.file.c_str(), d.domain, rt::to_string(d.mode),
+              children.size(), d.duration_s > 0 ? "" : ", until Ctrl-C",
+              security.on() ? (", DDS Security on (" + d.security + ")").c_str() : "");
   // up's participant exists before the services, so that the recorder's
   // readers are there when their writers appear.
   Joined joined;
-  rt::Participant participant(d.domain, "hcosim_up", rt::default_qos_file(), &joined);
+  rt::Participant participant(d.domain, "hcosim_up", rt::default_qos_file(), &joined, false, security);
   // In lockstep the recorder's readers are reliable: the services wait for
   // them too, so a recording holds every sample.
   participant.set_lockstep(d.mode == rt::Mode::kLockstep);

@@ -9,6 +9,8 @@
 
 #include "participant.h"
 
+namespace fs = std::filesystem;
+
 namespace hcosim::rt {
 namespace {
 
@@ -159,7 +161,7 @@ Mode parse_mode(const std::string& s) {
 Deployment load_deployment(const std::string& path) {
   const YAML::Node root = load_yaml(path);
   if (!root.IsMap()) throw ConfigError(path + ":1:1: a deployment must be a YAML map");
-  check_keys(path, root, {"domain", "mode", "step", "duration", "scene", "services"});
+  check_keys(path, root, {"domain", "mode", "step", "duration", "security", "scene", "services"});
 
   Deployment d;
   d.file = path;
@@ -183,6 +185,16 @@ Deployment load_deployment(const std::string& path) {
   if (auto n = root["duration"]) {
     d.duration_s = config_number(path, n, "duration");
     if (d.duration_s < 0) throw config_error(path, n, "'duration' must not be negative");
+  }
+  if (auto n = root["security"]) {
+    if (!n.IsMap()) throw config_error(path, n, "'security' must be a map with 'dir' (docs/security.md)");
+    check_keys(path, n, {"dir"});
+    if (!n["dir"]) throw config_error(path, n, "'security' must be a map with 'dir' (docs/security.md)");
+    fs::path dir = config_text(path, n["dir"], "dir");
+    if (dir.empty()) throw config_error(path, n["dir"], "'dir' must name a folder");
+    if (dir.is_relative()) dir = fs::path(path).parent_path() / dir;
+    d.security = dir.lexically_normal().string();
+    d.security_where = path + ":" + std::to_string(n.Mark().line + 1) + ":" + std::to_string(n.Mark().column + 1);
   }
   if (auto n = root["scene"]) d.scene = parse_scene(path, n);
   if (auto n = root["services"]) {
@@ -230,16 +242,16 @@ std::string Params::string(const std::string& key, const std::string& fallback) 
 
 std::string Params::path(const std::string& key) const {
   if (!node_ || !node_[key]) return "";
-  std::filesystem::path p = config_text(file_, node_[key], key);
-  if (p.is_relative()) p = std::filesystem::path(file_).parent_path() / p;
-  if (!std::filesystem::exists(p)) throw config_error(file_, node_[key], "'" + key + "': no file " + p.string());
+  fs::path p = config_text(file_, node_[key], key);
+  if (p.is_relative()) p = fs::path(file_).parent_path() / p;
+  if (!fs::exists(p)) throw config_error(file_, node_[key], "'" + key + "': no file " + p.string());
   return p.string();
 }
 
 std::string Params::output_path(const std::string& key) const {
   if (!node_ || !node_[key]) return "";
-  std::filesystem::path p = config_text(file_, node_[key], key);
-  if (p.is_relative()) p = std::filesystem::path(file_).parent_path() / p;
+  fs::path p = config_text(file_, node_[key], key);
+  if (p.is_relative()) p = fs::path(file_).parent_path() / p;
   return p.string();
 }
 

@@ -67,6 +67,8 @@ struct Deployment {
   Mode mode = Mode::kRealtime;
   double step_s = 0.001;    // base step, s: lockstep tick length
   double duration_s = 0;    // s of simulated time (lockstep) or wall time; 0 = until stopped
+  std::string security;     // DDS Security credentials folder, from the file's folder; "" = off
+  std::string security_where;  // "FILE:LINE:COL" of its section, for errors about it
   std::vector<ServiceSpec> services;
 };
 

@@ -17,7 +17,7 @@ std::string default_qos_file() {
 }
 
 Participant::Participant(int domain, const std::string& name, const std::string& qos_file,
-                         DomainParticipantListener* listener, bool lockstep)
+                         DomainParticipantListener* listener, bool lockstep, const Security& security)
     : lockstep_(lockstep) {
   if (domain < 0 || domain > kMaxDomain)
     throw std::runtime_error("domain id " + std::to_string(domain) + " is outside 0.." +
@@ -33,7 +33,12 @@ Participant::Participant(int domain, const std::string& name, const std::string&
   if (factory->get_participant_qos_from_profile("hcosim_participant", qos) != ReturnCode_t::RETCODE_OK)
     throw std::runtime_error(qos_file + " has no participant profile 'hcosim_participant'");
   qos.name(name);
+  add_security(security, qos);
   participant_ = factory->create_participant(domain, qos, listener, StatusMask::all());
+  if (!participant_ && security.on())
+    throw std::runtime_error("cannot create a DDS participant on domain " + std::to_string(domain) +
+                             " with DDS Security as '" + security.identity + "' (credentials " + security.dir +
+                             "): Fast DDS refused them, its log above says why");
   if (!participant_) throw std::runtime_error("cannot create a DDS participant on domain " + std::to_string(domain));
   publisher_ = participant_->create_publisher(PUBLISHER_QOS_DEFAULT);
   subscriber_ = participant_->create_subscriber(SUBSCRIBER_QOS_DEFAULT);

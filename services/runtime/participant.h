@@ -11,6 +11,7 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 
+#include "security.h"
 #include "topics.h"
 
 namespace hcosim::rt {
@@ -29,9 +30,11 @@ class Participant {
   // Loads `qos_file` and joins `domain` under `name` (shown in discovery).
   // Throws std::runtime_error naming the file or the domain on failure.
   // A `listener`, if given, hears discovery from the first moment.
-  // `lockstep`: see set_lockstep().
+  // `lockstep`: see set_lockstep(). `security`, when on, joins with those
+  // credentials: only participants of the same CA and permissions match.
   Participant(int domain, const std::string& name, const std::string& qos_file = default_qos_file(),
-              eprosima::fastdds::dds::DomainParticipantListener* listener = nullptr, bool lockstep = false);
+              eprosima::fastdds::dds::DomainParticipantListener* listener = nullptr, bool lockstep = false,
+              const Security& security = {});
   ~Participant();
   Participant(const Participant&) = delete;
   Participant& operator=(const Participant&) = delete;

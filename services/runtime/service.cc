@@ -50,11 +50,13 @@ std::uint64_t steps_per_period(const Options& o) {
   return static_cast<std::uint64_t>(whole);
 }
 
-Params load_params(const Options& o) {
-  if (o.deployment.empty()) return Params("", YAML::Node());
-  for (const auto& s : load_deployment(o.deployment).services)
-    if (s.name == o.name) return Params(o.deployment, s.params);
-  throw ConfigError(o.deployment + ": has no service named '" + o.name + "'");
+Params params_of(const Deployment& d, const std::string& name) {
+  if (d.file.empty()) return Params("", YAML::Node());
+  for (const auto& s : d.services)
+    if (s.name == name) return Params(d.file, s.params);
+  // The lockstep master is not an entry of the file.
+  if (name == "clock") return Params(d.file, YAML::Node());
+  throw ConfigError(d.file + ": has no service named '" + name + "'");
 }
 
 double value_of(const std::string& flag, const char* v) {
@@ -107,8 +109,10 @@ Options parse_options(int argc, char** argv) {
 Service::Service(Options options)
     : options_(std::move(options)),
       period_steps_(steps_per_period(options_)),
-      participant_(options_.domain, options_.name, options_.qos_file, nullptr, options_.mode == Mode::kLockstep),
-      params_(load_params(options_)),
+      deployment_(options_.deployment.empty() ? Deployment{} : load_deployment(options_.deployment)),
+      participant_(options_.domain, options_.name, options_.qos_file, nullptr, options_.mode == Mode::kLockstep,
+                   Security{deployment_.security, options_.name}),
+      params_(params_of(deployment_, options_.name)),
       status_(participant_) {
   install_stop_handlers();
   heartbeat(0, 0);

@@ -98,6 +98,7 @@ class Service {
 
   Options options_;
   std::uint64_t period_steps_;  // base steps per service step
+  Deployment deployment_;       // --deployment's file (empty without one)
   Participant participant_;
   Params params_;
   Writer<ServiceStatus> status_;

@@ -86,9 +86,21 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"scene_twice", "scene:\n  objects:\n    - {name: a, kind: rigid}\n    - {name: a, kind: rigid}\n",
                 ":4:14: ", "defined twice"},
         BadCase{"scene_no_kind", "scene:\n  objects:\n    - {name: a}\n", ":3:7: ", "missing required key 'kind'"},
+        BadCase{"security_type", "security: keys\n", ":1:11: ", "a map with 'dir'"},
+        BadCase{"security_key", "security: {dri: keys}\n", ":1:12: ", "did you mean 'dir'?"},
+        BadCase{"security_empty", "security: {dir: ''}\n", ":1:17: ", "'dir' must name a folder"},
         BadCase{"undefined_object", "scene:\n  objects: []\nservices:\n  - {name: a, kind: rigid, rate: 5, objects: [x]}\n",
                 ":4:47: ", "no object 'x' in the scene"}),
     [](const auto& info) { return std::string(info.param.name); });
+
+TEST(Deployment, SecurityDirIsTakenFromTheFilesFolder) {
+  const std::string f = write_file("secure.yaml", "security: {dir: ../keys}\n");
+  const Deployment d = load_deployment(f);
+  EXPECT_EQ(d.security, (std::filesystem::path(f).parent_path().parent_path() / "keys").string());
+  EXPECT_EQ(d.security_where, f + ":1:11");
+  EXPECT_EQ(load_deployment(write_file("abs.yaml", "security: {dir: /etc/keys}\n")).security, "/etc/keys");
+  EXPECT_EQ(load_deployment(write_file("plain.yaml", "domain: 1\n")).security, "");
+}
 
 TEST(Deployment, MissingFileIsNamed) {
   try {

@@ -1,0 +1,238 @@
+// hcosim security init: a test certificate authority, one certificate per
+// participant, and governance and permissions documents signed by the CA,
+// made with the openssl command (docs/security.md).
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "cli.h"
+#include "deployment.h"
+#include "participant.h"
+
+namespace fs = std::filesystem;
+
+namespace hcosim::cli {
+namespace {
+
+// Runs openssl with `args`; throws with its own message when it fails.
+void openssl(const std::vector<std::string>& args) {
+  int out[2];
+  if (pipe(out) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
+  std::vector<char*> argv{const_cast<char*>("openssl")};
+  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
+  if (pid == 0) {
+    dup2(out[1], STDOUT_FILENO);
+    dup2(out[1], STDERR_FILENO);
+    close(out[0]);
+    close(out[1]);
+    execvp("openssl", argv.data());
+    _exit(127);
+  }
+  close(out[1]);
+  std::string said;
+  char buf[4096];
+  for (ssize_t n; (n = read(out[0], buf, sizeof buf)) > 0;) said.append(buf, std::size_t(n));
+  close(out[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return;
+  std::string cmd = "openssl";
+  for (const auto& a : args) cmd += " " + a;
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 127)
+    throw std::runtime_error("cannot run openssl (install the openssl package): " + cmd);
+  throw std::runtime_error(cmd + " failed:\n" + said);
+}
+
+// ISO 8601 UTC, as the permissions document's validity wants it.
+std::string utc(std::time_t t) {
+  char s[32];
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  std::strftime(s, sizeof s, "%Y-%m-%dT%H:%M:%S", &tm);
+  return s;
+}
+
+void write(const fs::path& path, const std::string& text) {
+  std::ofstream f(path);
+  f << text;
+  if (!f) throw std::runtime_error("cannot write " + path.string());
+}
+
+// The same policy for every domain: only participants holding a
+// certificate of this CA join, discovery and liveliness are encrypted
+// (topic names stay hidden), and so is every sample's payload. `all` also
+// encrypts every RTPS message and submessage (sequence numbers,
+// heartbeats): in lockstep, whose writers heartbeat every 100 us, that
+// costs far more (docs/security.md has the figures).
+std::string governance(bool all) {
+  const std::string whole = all ? "ENCRYPT" : "NONE";
+  return R"(<?xml version="1.0" encoding="UTF-8"?>
+<!-- Made by hcosim security init (docs/security.md). -->
+<dds xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance"
+     xsi:noNamespaceSchemaLocation="http://www.omg.org/spec/DDS-SECURITY/20170901/omg_shared_ca_governance.xsd">
+  <domain_access_rules>
+    <domain_rule>
+      <domains><id_range><min>0</min><max>)" +
+         std::to_string(rt::kMaxDomain) + R"(</max></id_range></domains>
+      <allow_unauthenticated_participants>false</allow_unauthenticated_participants>
+      <enable_join_access_control>true</enable_join_access_control>
+      <discovery_protection_kind>ENCRYPT</discovery_protection_kind>
+      <liveliness_protection_kind>ENCRYPT</liveliness_protection_kind>
+      <rtps_protection_kind>)" + whole + R"(</rtps_protection_kind>
+      <topic_access_rules>
+        <topic_rule>
+          <topic_expression>*</topic_expression>
+          <enable_discovery_protection>true</enable_discovery_protection>
+          <enable_liveliness_protection>true</enable_liveliness_protection>
+          <enable_read_access_control>true</enable_read_access_control>
+          <enable_write_access_control>true</enable_write_access_control>
+          <metadata_protection_kind>)" + whole + R"(</metadata_protection_kind>
+          <data_protection_kind>ENCRYPT</data_protection_kind>
+        </topic_rule>
+      </topic_access_rules>
+    </domain_rule>
+  </domain_access_rules>
+</dds>
+)";
+}
+
+// One grant per identity: services and tools publish and subscribe to
+// every topic; a reader only subscribes. Anything else is denied.
+std::string permissions(const std::set<std::string>& full, const std::set<std::string>& readers, const std::string& domains,
+                        const std::string& from, const std::string& until) {
+  std::ostringstream x;
+  x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<!-- Made by hcosim security init (docs/security.md). -->\n"
+    << "<dds xmlns:xsi=\"http://www.w3.org/2001/XMLSchema-instance\"\n"
+    << "     xsi:noNamespaceSchemaLocation=\"http://www.omg.org/spec/DDS-SECURITY/20170901/omg_shared_ca_permissions.xsd\">\n"
+    << "  <permissions>\n";
+  auto grant = [&](const std::string& name, bool publish) {
+    x << "    <grant name=\"" << name << "\">\n"
+      << "      <subject_name>CN=" << name << "</subject_name>\n"
+      << "      <validity><not_before>" << from << "</not_before><not_after>" << until << "</not_after></validity>\n"
+      << "      <allow_rule>\n        <domains>" << domains << "</domains>\n";
+    if (publish) x << "        <publish><topics><topic>*</topic></topics></publish>\n";
+    x << "        <subscribe><topics><topic>*</topic></topics></subscribe>\n"
+      << "      </allow_rule>\n      <default>DENY</default>\n    </grant>\n";
+  };
+  for (const auto& n : full) grant(n, true);
+  for (const auto& n : readers) grant(n, false);
+  x << "  </permissions>\n</dds>\n";
+  return x.str();
+}
+
+std::set<std::string> names_in(const std::string& list, const char* flag) {
+  static const std::regex valid("[A-Za-z0-9_]{1,63}");
+  std::set<std::string> out;
+  std::stringstream ss(list);
+  for (std::string n; std::getline(ss, n, ',');) {
+    if (n.empty()) continue;
+    if (!std::regex_match(n, valid))
+      throw std::invalid_argument(std::string(flag) + ": '" + n + "' is not a name ([A-Za-z0-9_], at most 63)");
+    out.insert(n);
+  }
+  return out;
+}
+
+int init(const Args& a) {
+  if (a.positional.size() > 1) throw std::invalid_argument("security init takes one DIR");
+  rt::Deployment d;
+  if (a.has("--deployment")) d = rt::load_deployment(a.get("--deployment", ""));
+  std::string dir = a.positional.empty() ? d.security : a.positional[0];
+  if (dir.empty())
+    throw std::invalid_argument("security init needs a DIR, or a --deployment FILE with a 'security' section");
+  const std::string protection = a.get("--protection", "data");
+  if (protection != "data" && protection != "all")
+    throw std::invalid_argument("--protection must be 'data' or 'all', not '" + protection + "'");
+  const double days = a.number("--days", 365);
+  if (days < 1 || days > 36500 || days != std::floor(days)) throw std::invalid_argument("--days must be a whole number in 1..36500");
+
+  // Who gets a certificate: the tools, the lockstep clock, every service of
+  // the deployment, and whoever is named.
+  std::set<std::string> full = names_in(a.get("--identities", ""), "--identities");
+  const std::set<std::string> readers = names_in(a.get("--readers", ""), "--readers");
+  full.insert(rt::kToolIdentity);
+  if (!d.file.empty()) {
+    full.insert("clock");
+    for (const auto& s : d.services) full.insert(s.name);
+  }
+  for (const auto& r : readers)
+    if (full.count(r)) throw std::invalid_argument("--readers: '" + r + "' is also a publishing identity");
+
+  if (fs::exists(rt::ca_file(dir))) {
+    if (a.has("--keep")) {
+      std::cout << "hcosim security: keeping the credentials in " << dir << "\n";
+      return 0;
+    }
+    if (!a.has("--force"))
+      throw std::invalid_argument(dir + " already holds a CA (" + rt::ca_file(dir) +
+                                  "); --force replaces everything in it, --keep keeps it, or choose another folder");
+    for (const auto& f : {rt::ca_file(dir), rt::ca_key_file(dir), rt::governance_file(dir), rt::permissions_file(dir)})
+      fs::remove(f);
+    fs::remove_all(fs::path(dir) / "identities");
+  }
+  fs::create_directories(fs::path(dir) / "identities");
+  fs::permissions(dir, fs::perms::owner_all, fs::perm_options::replace);
+  const std::string valid = std::to_string(int(days));
+
+  // The CA: one key pair both for identities (PKI-DH) and for documents
+  // (Access-Permissions). ECDSA P-256, which both plugins accept.
+  std::cerr << "hcosim security: CA in " << dir << "\n";
+  openssl({"genpkey", "-algorithm", "EC", "-pkeyopt", "ec_paramgen_curve:P-256", "-out", rt::ca_key_file(dir)});
+  fs::permissions(rt::ca_key_file(dir), fs::perms::owner_read | fs::perms::owner_write, fs::perm_options::replace);
+  openssl({"req", "-x509", "-new", "-key", rt::ca_key_file(dir), "-sha256", "-days", valid, "-subj", "/CN=hcosim test CA",
+           "-out", rt::ca_file(dir)});
+  std::set<std::string> everyone = full;
+  everyone.insert(readers.begin(), readers.end());
+  for (const auto& n : everyone) {
+    const std::string key = rt::key_file(dir, n), cert = rt::certificate_file(dir, n);
+    const std::string csr = (fs::path(dir) / "identities" / (n + ".csr")).string();
+    openssl({"genpkey", "-algorithm", "EC", "-pkeyopt", "ec_paramgen_curve:P-256", "-out", key});
+    fs::permissions(key, fs::perms::owner_read | fs::perms::owner_write, fs::perm_options::replace);
+    openssl({"req", "-new", "-key", key, "-subj", "/CN=" + n, "-out", csr});
+    openssl({"x509", "-req", "-in", csr, "-CA", rt::ca_file(dir), "-CAkey", rt::ca_key_file(dir), "-CAcreateserial",
+             "-sha256", "-days", valid, "-out", cert});
+    fs::remove(csr);
+    std::cerr << "hcosim security: identity " << n << (readers.count(n) ? " (subscribe only)" : "") << "\n";
+  }
+  fs::remove(fs::path(dir) / "ca.srl");
+
+  const std::time_t now = std::time(nullptr);
+  const std::string domains = d.file.empty() ? "<id_range><min>0</min><max>" + std::to_string(rt::kMaxDomain) + "</max></id_range>"
+                                             : "<id>" + std::to_string(d.domain) + "</id>";
+  const fs::path gov = fs::path(dir) / "governance.xml", perm = fs::path(dir) / "permissions.xml";
+  write(gov, governance(protection == "all"));
+  write(perm, permissions(full, readers, domains, utc(now - 3600), utc(now + std::time_t(days) * 86400)));
+  for (const auto& [xml, signed_] : {std::pair{gov.string(), rt::governance_file(dir)}, {perm.string(), rt::permissions_file(dir)}})
+    openssl({"smime", "-sign", "-text", "-in", xml, "-signer", rt::ca_file(dir), "-inkey", rt::ca_key_file(dir), "-out", signed_});
+  std::cout << "hcosim security: " << everyone.size() << " identities in " << dir << " (CA " << rt::ca_file(dir)
+            << ", valid " << valid << " days, " << protection << " encrypted" << (d.file.empty() ? "" : ", domain " + std::to_string(d.domain)) << ")\n";
+  return 0;
+}
+
+}  // namespace
+
+int security(const std::vector<std::string>& argv) {
+  if (argv.empty() || argv[0] != "init")
+    throw std::invalid_argument(
+        "usage: hcosim security init [DIR] [--deployment FILE] [--identities A,B] [--readers R] [--protection data|all] [--days N] [--force|--keep]");
+  const Args a =
+      parse({argv.begin() + 1, argv.end()}, {"--deployment", "--identities", "--readers", "--protection", "--days"}, {"--force", "--keep"});
+  if (a.has("--force") && a.has("--keep")) throw std::invalid_argument("--force and --keep exclude each other");
+  return init(a);
+}
+
+}  // namespace hcosim::cli
