@@ -38,6 +38,8 @@ TriangleMesh read_obj(const std::string& path) {
       Eigen::Vector3d p;
       if (!(ls >> p.x() >> p.y() >> p.z())) fail_at(path, line, "a vertex needs three numbers");
       if (!p.allFinite()) fail_at(path, line, "vertex coordinate is not finite");
+      if (p.cwiseAbs().maxCoeff() > kMaxCoordinate)
+        fail_at(path, line, "vertex coordinate beyond +-1e6 m: not a mesh in metres");
       v.push_back(p);
     } else if (tag == "f") {
       std::vector<int> poly;
@@ -66,6 +68,10 @@ TriangleMesh read_obj(const std::string& path) {
 }
 
 int weld(TriangleMesh& mesh, double tol) {
+  if (!(tol >= 1e-12)) throw std::invalid_argument("weld: tolerance must be at least 1e-12 m");
+  // Cells are whole numbers of `tol`: they must fit a long (found by fuzzing).
+  if (mesh.vertices.size() && mesh.vertices.cwiseAbs().maxCoeff() / tol > 1e17)
+    throw std::invalid_argument("weld: coordinates too large for a tolerance of " + std::to_string(tol) + " m");
   // Vertices are bucketed on a grid of cell `tol`; neighbours are searched
   // in the 27 surrounding cells.
   using Cell = std::array<long, 3>;

@@ -16,13 +16,18 @@ struct TriangleMesh {
   std::vector<Eigen::Vector3i> triangles;  // counter-clockwise seen from outside
 };
 
+// Largest |coordinate| read_obj accepts, m.
+inline constexpr double kMaxCoordinate = 1e6;
+
 // Reads the `v` and `f` records of a Wavefront OBJ file (polygons are fanned
 // into triangles; `f a/b/c` and negative indices are understood; other
 // records are ignored). Throws std::runtime_error as "PATH:LINE: problem".
 TriangleMesh read_obj(const std::string& path);
 
-// Merges vertices closer than `tolerance` (m) and drops the triangles that
-// collapse; returns how many vertices were merged.
+// Merges vertices closer than `tolerance` (m, >= 1e-12) and drops the
+// triangles that collapse; returns how many vertices were merged. Throws
+// std::invalid_argument for a smaller tolerance or coordinates over 1e17
+// tolerances.
 int weld(TriangleMesh& mesh, double tolerance);
 
 // Throws std::invalid_argument unless every edge is shared by exactly two

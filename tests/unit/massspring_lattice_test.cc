@@ -138,6 +138,13 @@ TEST_F(MeshFiles, ErrorsNameTheFileAndLine) {
             std::string::npos);
   EXPECT_NE(throws([&] { read_obj(write("c.obj", "v 0 0 0\nf 1 x 2\n")); }).find("c.obj:2: 'x'"), std::string::npos);
   EXPECT_NE(throws([&] { read_obj((dir / "missing.obj").string()); }).find("cannot open"), std::string::npos);
+  // Found by fuzzing: a coordinate of 9e13 m made weld's grid cell overflow a long.
+  EXPECT_NE(throws([&] { read_obj(write("far.obj", "v 0 0 0\nv 0 0 88888888888888\nv 0 1 0\nf 1 2 3\n")); })
+                .find("far.obj:2: vertex coordinate beyond +-1e6 m"),
+            std::string::npos);
+  TriangleMesh far = read_obj(write("ok.obj", "v 0 0 0\nv 0 0 1e6\nv 0 1 0\nf 1 2 3\n"));
+  EXPECT_NE(throws([&] { weld(far, 1e-12); }).find("too large for a tolerance"), std::string::npos);
+  EXPECT_NE(throws([&] { weld(far, 0); }).find("at least 1e-12"), std::string::npos);
   // An open box (top face missing) is refused before voxelising.
   std::string open = cube_obj(0.1);
   open = open.substr(0, open.rfind("f 2 4 8 6"));
