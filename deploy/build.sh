@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs what is missing and builds hcosim (Release) into build/.
 # --sanitize: the same tree with AddressSanitizer and UndefinedBehaviorSanitizer
-# (RelWithDebInfo) into build-asan/ instead.
+# (RelWithDebInfo, clang, libFuzzer coverage and fuzz targets) into
+# build-asan/ instead.
 # Used by run.sh and test.sh; safe to run again (incremental, ccache).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -9,7 +10,12 @@ name=build
 args=(-DCMAKE_BUILD_TYPE=Release)
 if [ "${1:-}" = "--sanitize" ]; then
   name=build-asan
-  args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DHCOSIM_SANITIZE=address,undefined)
+  args=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DHCOSIM_SANITIZE=address,undefined -DHCOSIM_FUZZ=ON)
+  export CC=clang CXX=clang++
+  # A build-asan/ configured with gcc (before clang) cannot switch compiler.
+  if [ -f "$root/$name/CMakeCache.txt" ] && ! grep -q '^CMAKE_CXX_COMPILER:.*clang' "$root/$name/CMakeCache.txt"; then
+    rm -rf "${root:?}/$name"
+  fi
 fi
 log="$root/$name.log"
 "$root/deploy/setup.sh"
