@@ -324,6 +324,8 @@ int up(const std::vector<std::string>& argv) {
   std::string reason;
   int code = 0;
   bool crashed = false;  // some process died by a signal: its shared memory stays behind
+  const Child shm_clean{"shm_clean", "/bin/sh", {"-c", "fastdds shm clean"}};
+  pid_t cleaner = -1;    // a running shm_clean, or -1
   // Say when every service's participant has been discovered, or after
   // kJoinWaitS which have not.
   bool all_joined = false, join_warned = false;
@@ -350,6 +352,7 @@ int up(const std::vector<std::string>& argv) {
       }
     }
     if (recorder) recorder->poll();
+    if (cleaner > 0 && waitpid(cleaner, nullptr, WNOHANG) == cleaner) cleaner = -1;
     if (g_signal) reason = std::string("stopped by ") + (g_signal == SIGINT ? "SIGINT" : "SIGTERM");
     else if (rt::mono_ns() >= end) reason = "duration reached";
     else
@@ -369,6 +372,10 @@ int up(const std::vector<std::string>& argv) {
           }
           c->pid = spawn(*c, log, true);
           c->reaped = false;
+          // The killed process's segments go now, not at the end of a run
+          // that may last hours; in the background, so the recorder keeps
+          // polling (the tool removes only segments nobody holds).
+          if (WIFSIGNALED(c->status) && cleaner < 0) cleaner = spawn(shm_clean, logs / "shm_clean.log", true);
         } else if (failed(*c) && c->policy == rt::OnFailure::kIgnore) {
           progress.finish();
           std::printf("hcosim up: service '%s' ended (%s); on_failure: ignore, the others run on\n", c->name.c_str(),
@@ -409,6 +416,7 @@ int up(const std::vector<std::string>& argv) {
       crashed = crashed || WIFSIGNALED(c.status);
     }
   }
+  if (cleaner > 0) waitpid(cleaner, nullptr, 0);
   if (crashed) clean_shared_memory();
 
   std::printf("hcosim up: %s after %.1f s\n", reason.c_str(), (rt::mono_ns() - start) * 1e-9);

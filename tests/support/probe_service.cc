@@ -1,8 +1,9 @@
 // hcosim_test_probe: a service for the integration tests only. Its roles
 // produce and answer samples the way real services will, so the runtime,
 // the launcher and the transport are tested across real processes.
-//   source : publishes HapticState (HIP on a vertical sine), counts answers;
-//            param nan_every N makes every Nth sample NaN.
+//   source : publishes HapticState (HIP on a vertical sine, seq counting
+//            the samples sent), counts answers; param nan_every N makes
+//            every Nth sample NaN, profile P sets the writer's QoS profile.
 //   wall   : answers each HapticState with the ForceFeedback of a wall at z = 0;
 //            nan_every N makes every Nth answer's force NaN.
 //   camera : publishes 640x480 bgr8 CameraFrames (921,600 bytes of pixels).
@@ -33,14 +34,14 @@ struct Probe {
     if (fail_after > 0 && (mono_ns() - start) * 1e-9 > fail_after) std::exit(3);
   }
 
-  int source() {
-    Writer<HapticState> out(svc.participant());
+  int source(const std::string& profile) {
+    Writer<HapticState> out(svc.participant(), profile);
     Reader<ForceFeedback> in = svc.reader<ForceFeedback>();
     return svc.run([&](const Tick& tick) {
       begin_step();
       HapticState s;
       s.device("probe");
-      s.seq(tick.step);
+      s.seq(sent);
       s.stamp(svc.stamp(tick));
       s.orientation().w(1.0);
       s.position().z(0.01 * std::sin(2 * M_PI * tick.sim_time_ns * 1e-9));
@@ -123,11 +124,11 @@ struct Probe {
 int run(Options o) {
   Service svc(o);
   const Params& p = svc.params();
-  p.allow_only({"role", "nan_every", "fail_after", "vertices", "stiffness"});
+  p.allow_only({"role", "nan_every", "fail_after", "vertices", "stiffness", "profile"});
   const std::string role = p.text("role", "source", {"source", "wall", "camera", "mesh"});
   Probe probe{svc, o.name, p.number("nan_every", 0, 0, 1e6), p.number("fail_after", 0, 0, 1e6),
               p.number("stiffness", 500, 0, 1e5), std::uint32_t(p.number("vertices", 1000, 3, 1e6))};
-  const int code = role == "source" ? probe.source()
+  const int code = role == "source" ? probe.source(p.text("profile", "control", {"control", "state"}))
                    : role == "wall" ? probe.wall()
                    : role == "camera" ? probe.camera()
                                       : probe.mesh();
