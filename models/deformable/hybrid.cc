@@ -93,7 +93,13 @@ Eigen::Vector3d behavior_static_force(const HybridSpec& spec, int mass, const Ei
   return sim.spring_force(mass, s);
 }
 
-Hybrid::Hybrid(const HybridSpec& spec)
+Weights mvc_map(const HybridSpec& spec, const Eigen::Matrix3Xd& cage, const std::vector<Eigen::Vector3i>& triangles,
+                const Eigen::Matrix3Xd& points) {
+  Weights w = mean_value_weights(cage, triangles, points);
+  return spec.map == VisualMap::mvc_sparse ? truncate(w, spec.keep) : w;
+}
+
+Hybrid::Hybrid(const HybridSpec& spec, const MapSource& map)
     : spec_(spec), chains_(hybrid_chains(spec), spec.relax_rate, spec.limit_stiffness) {
   masses_ = std::make_unique<massspring::Simulator>(hybrid_masses(spec), spec.behavior);
   state_ = massspring::rest_state(masses_->lattice());
@@ -109,8 +115,9 @@ Hybrid::Hybrid(const HybridSpec& spec)
     cage_ = g.nodes;
     Eigen::Matrix3Xd cage(3, cage_.size());
     for (std::size_t v = 0; v < cage_.size(); ++v) cage.col(v) = lat.rest.col(cage_[v]);
-    weights_ = mean_value_weights(cage, g.triangles, visual_.vertices);
-    if (spec.map == VisualMap::mvc_sparse) weights_ = truncate(weights_, spec.keep);
+    weights_ = map ? map(cage, g.triangles, visual_.vertices) : mvc_map(spec, cage, g.triangles, visual_.vertices);
+    need(weights_.rows() == visual_.vertices.cols() && weights_.cols() == cage.cols(),
+         "the visual map must have a row per visual vertex and a column per cage vertex");
   }
   columns_ = weights_.cast<float>();
 }

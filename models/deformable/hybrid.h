@@ -6,6 +6,7 @@
 // 001 Fig 7 and 8.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -66,9 +67,20 @@ massspring::Lattice hybrid_masses(const HybridSpec& spec);
 // press the S-Chain renders, which force_vs_behavior compares with it.
 Eigen::Vector3d behavior_static_force(const HybridSpec& spec, int mass, const Eigen::Vector3d& displacement);
 
+// The visual map of mean value weights (truncated for mvc_sparse) from the
+// cage's rest positions (3 x n), its triangles and the visual rest points
+// (3 x m): the slow part of building a Hybrid (about a second at seed
+// scale). It depends on nothing else, so a service may keep it on disk.
+Weights mvc_map(const HybridSpec& spec, const Eigen::Matrix3Xd& cage, const std::vector<Eigen::Vector3i>& triangles,
+                const Eigen::Matrix3Xd& points);
+using MapSource = std::function<Weights(const Eigen::Matrix3Xd& cage, const std::vector<Eigen::Vector3i>& triangles,
+                                        const Eigen::Matrix3Xd& points)>;
+
 class Hybrid final : public Object {
  public:
-  explicit Hybrid(const HybridSpec& spec);
+  // `map`, if given, stands in for mvc_map (for example a cache of it);
+  // it must return points x cage weights. Ignored for the trilinear map.
+  explicit Hybrid(const HybridSpec& spec, const MapSource& map = {});
 
   // The HIP touches when it enters the cube's rest box; the surface element
   // nearest the entry point follows it until it leaves (or, with `grab`,

@@ -15,6 +15,7 @@
 
 #include "deformable/elastic_surface.h"
 #include "deformable/hybrid.h"
+#include "deformable/map_cache.h"
 #include "deformable/mesh_idl.h"
 #include "device/haptic_idl.h"
 #include "service.h"
@@ -33,7 +34,9 @@ struct Item {
   std::uint64_t frames = 0;    // meshes published
 };
 
-std::unique_ptr<deformable::Object> make_object(const Params& o, const std::string& name, double servo_dt) {
+// `cache`: the folder that keeps hybrid objects' visual maps between runs.
+std::unique_ptr<deformable::Object> make_object(const Params& o, const std::string& name, double servo_dt,
+                                                const std::string& cache) {
   const std::string model = o.text("model", "hybrid", {"hybrid", "sheet", "semisphere"});
   const auto c = o.vec3("centre", {0, 0, model == "hybrid" ? 0.05 : 0});
   if (model == "hybrid") {
@@ -49,10 +52,11 @@ std::unique_ptr<deformable::Object> make_object(const Params& o, const std::stri
     s.behavior.dt = 1 / o.number("behavior_rate", 1000, 10, 10000);
     s.visual_subdivisions = int(o.number("visual_subdivisions", s.visual_subdivisions, 1, 300));
     s.visual_exponent = o.number("rounding", s.visual_exponent, 2, 64);
-    std::printf("%s: hybrid, %d^3 chains and masses, %d visual vertices by %s; building the map\n", name.c_str(),
-                s.elements, 6 * s.visual_subdivisions * s.visual_subdivisions + 2, deformable::name(s.map));
+    std::printf("%s: hybrid, %d^3 chains and masses, %d visual vertices by %s; building the map (kept in %s)\n",
+                name.c_str(), s.elements, 6 * s.visual_subdivisions * s.visual_subdivisions + 2, deformable::name(s.map),
+                cache.c_str());
     std::fflush(stdout);
-    return std::make_unique<deformable::Hybrid>(s);
+    return std::make_unique<deformable::Hybrid>(s, deformable::map_cache(cache, s));
   }
   o.allow_only({"name", "model", "centre", "size", "resolution", "stiffness", "damping", "prestretch"});
   deformable::SurfaceSpec s;
@@ -144,7 +148,7 @@ int run(int argc, char** argv) {
     if (name.empty() || name.size() > 31) o.fail("name", "each object needs a name of 1 to 31 characters");
     for (const Item& it : items)
       if (it.name == name) o.fail("name", "two objects are named '" + name + "'");
-    items.push_back({name, make_object(o, name, servo_dt)});
+    items.push_back({name, make_object(o, name, servo_dt, svc.options().out + "/cache")});
   }
   if (items.empty()) p.fail("objects", "hcosim_deformable: params.objects lists no object; docs/deformable.md");
 

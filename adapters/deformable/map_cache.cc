@@ -1,0 +1,114 @@
+#include "deformable/map_cache.h"
+
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include <unistd.h>
+
+namespace hcosim::deformable {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr std::uint64_t kMagic = 0x31'70'61'6d'6d'6f'63'68ULL;  // "hcommap1"
+
+// FNV-1a over raw bytes: a cache key, not a defence against forgery.
+struct Hash {
+  std::uint64_t h = 1469598103934665603ULL;
+  void bytes(const void* p, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i) h = (h ^ static_cast<const unsigned char*>(p)[i]) * 1099511628211ULL;
+  }
+  template <class T>
+  void value(const T& v) {
+    bytes(&v, sizeof v);
+  }
+};
+
+std::uint64_t key(const HybridSpec& spec, const Eigen::Matrix3Xd& cage, const std::vector<Eigen::Vector3i>& triangles,
+                  const Eigen::Matrix3Xd& points) {
+  Hash h;
+  h.value(int(spec.map));
+  h.value(spec.map == VisualMap::mvc_sparse ? spec.keep : 1.0);
+  h.value(cage.cols());
+  h.bytes(cage.data(), sizeof(double) * cage.size());
+  h.value(triangles.size());
+  h.bytes(triangles.data(), sizeof(Eigen::Vector3i) * triangles.size());
+  h.value(points.cols());
+  h.bytes(points.data(), sizeof(double) * points.size());
+  return h.h;
+}
+
+// The map in `path`, if it is one of rows x cols; else an empty matrix.
+Weights read(const fs::path& path, Eigen::Index rows, Eigen::Index cols) {
+  std::ifstream in(path, std::ios::binary);
+  std::uint64_t magic = 0;
+  std::int64_t r = 0, c = 0, nnz = 0;
+  in.read(reinterpret_cast<char*>(&magic), sizeof magic);
+  in.read(reinterpret_cast<char*>(&r), sizeof r);
+  in.read(reinterpret_cast<char*>(&c), sizeof c);
+  in.read(reinterpret_cast<char*>(&nnz), sizeof nnz);
+  if (!in || magic != kMagic || r != rows || c != cols || nnz < 0 || nnz > rows * cols) return {};
+  std::vector<int> outer(static_cast<std::size_t>(rows) + 1), inner(static_cast<std::size_t>(nnz));
+  std::vector<double> values(static_cast<std::size_t>(nnz));
+  in.read(reinterpret_cast<char*>(outer.data()), std::streamsize(sizeof(int) * outer.size()));
+  in.read(reinterpret_cast<char*>(inner.data()), std::streamsize(sizeof(int) * inner.size()));
+  in.read(reinterpret_cast<char*>(values.data()), std::streamsize(sizeof(double) * values.size()));
+  if (!in || in.peek() != EOF || outer.front() != 0 || outer.back() != nnz) return {};
+  for (std::size_t i = 0; i + 1 < outer.size(); ++i)
+    if (outer[i] > outer[i + 1]) return {};
+  for (int j : inner)
+    if (j < 0 || j >= cols) return {};
+  Weights w(rows, cols);
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(values.size());
+  for (Eigen::Index i = 0; i < rows; ++i)
+    for (int k = outer[std::size_t(i)]; k < outer[std::size_t(i) + 1]; ++k)
+      t.emplace_back(int(i), inner[std::size_t(k)], values[std::size_t(k)]);
+  w.setFromTriplets(t.begin(), t.end());
+  return w;
+}
+
+void write(const fs::path& path, Weights w) {
+  w.makeCompressed();
+  const fs::path tmp = path.string() + "." + std::to_string(::getpid()) + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    const std::int64_t header[3] = {w.rows(), w.cols(), w.nonZeros()};
+    out.write(reinterpret_cast<const char*>(&kMagic), sizeof kMagic);
+    out.write(reinterpret_cast<const char*>(header), sizeof header);
+    out.write(reinterpret_cast<const char*>(w.outerIndexPtr()), std::streamsize(sizeof(int) * (w.rows() + 1)));
+    out.write(reinterpret_cast<const char*>(w.innerIndexPtr()), std::streamsize(sizeof(int) * w.nonZeros()));
+    out.write(reinterpret_cast<const char*>(w.valuePtr()), std::streamsize(sizeof(double) * w.nonZeros()));
+    if (!out) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      return;  // a cache that cannot be written only costs the next start its time
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) fs::remove(tmp, ec);
+}
+
+}  // namespace
+
+MapSource map_cache(const std::string& dir, const HybridSpec& spec) {
+  return [dir, spec](const Eigen::Matrix3Xd& cage, const std::vector<Eigen::Vector3i>& triangles,
+                     const Eigen::Matrix3Xd& points) {
+    char name[32];
+    std::snprintf(name, sizeof name, "map-%016llx.bin",
+                  static_cast<unsigned long long>(key(spec, cage, triangles, points)));
+    const fs::path path = fs::path(dir) / name;
+    Weights w = read(path, points.cols(), cage.cols());
+    if (w.rows() == points.cols()) return w;
+    w = mvc_map(spec, cage, triangles, points);
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    write(path, w);
+    return w;
+  };
+}
+
+}  // namespace hcosim::deformable

@@ -1,0 +1,21 @@
+// A folder of visual maps (deformable::mvc_map) kept between runs: a
+// restarted deformable service reads its hybrid objects' maps instead of
+// computing them again (about a second each at seed scale, where the
+// restart should take well under 2 s; docs/deformable.md).
+#pragma once
+
+#include <string>
+
+#include "deformable/hybrid.h"
+
+namespace hcosim::deformable {
+
+// A MapSource that returns the map from DIR/map-KEY.bin when that file
+// holds it, KEY a 64-bit hash of every input of mvc_map (the cage, its
+// triangles, the points, the map kind and `keep`), and otherwise computes
+// it and writes that file (whole or not at all: written beside it, then
+// renamed). A file that cannot be read as a map of the right shape is
+// computed again and replaced. `dir` is made if missing.
+MapSource map_cache(const std::string& dir, const HybridSpec& spec);
+
+}  // namespace hcosim::deformable

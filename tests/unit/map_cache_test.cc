@@ -1,0 +1,80 @@
+// The hybrid objects' visual maps kept on disk (adapters/deformable/
+// map_cache): a miss computes and keeps the map, a hit reads back exactly
+// that map, other inputs miss, and a damaged file is computed again.
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include "deformable/map_cache.h"
+
+namespace hcosim::deformable {
+namespace {
+
+namespace fs = std::filesystem;
+
+class MapCache : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir = fs::temp_directory_path() / ("hcosim_map_cache_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    spec.elements = 4;
+    spec.visual_subdivisions = 6;
+  }
+  void TearDown() override { fs::remove_all(dir); }
+  std::vector<fs::path> files() const {
+    std::vector<fs::path> out;
+    for (const auto& e : fs::directory_iterator(dir)) out.push_back(e.path());
+    return out;
+  }
+  static bool same(const Weights& a, const Weights& b) {
+    return a.rows() == b.rows() && a.cols() == b.cols() && a.nonZeros() == b.nonZeros() &&
+           Eigen::MatrixXd(a - b).cwiseAbs().maxCoeff() == 0;
+  }
+  fs::path dir;
+  HybridSpec spec;
+};
+
+TEST_F(MapCache, AMissComputesAndKeepsTheMapAHitReadsItBackExactly) {
+  const Hybrid computed(spec);
+  const Hybrid first(spec, map_cache(dir, spec));
+  EXPECT_TRUE(same(first.map(), computed.map()));
+  ASSERT_EQ(files().size(), 1u);
+  const Hybrid second(spec, map_cache(dir, spec));
+  EXPECT_TRUE(same(second.map(), computed.map()));
+  EXPECT_EQ(files().size(), 1u);
+}
+
+TEST_F(MapCache, AHitComesFromTheFile) {
+  const Hybrid first(spec, map_cache(dir, spec));
+  // Plant another map of the same shape under the same key: it is what a
+  // hit returns, so the map was read, not computed.
+  HybridSpec other = spec;
+  other.keep = 0.9;
+  const Hybrid planted(other, map_cache(dir / "other", other));
+  ASSERT_FALSE(same(planted.map(), first.map()));
+  fs::copy_file(fs::directory_iterator(dir / "other")->path(), files().front(), fs::copy_options::overwrite_existing);
+  fs::remove_all(dir / "other");
+  EXPECT_TRUE(same(Hybrid(spec, map_cache(dir, spec)).map(), planted.map()));
+}
+
+TEST_F(MapCache, OtherInputsMissAndADamagedFileIsComputedAgain) {
+  const Hybrid computed(spec);
+  (void)Hybrid(spec, map_cache(dir, spec));
+  const fs::path mine = files().front();
+  const auto size = fs::file_size(mine);
+  HybridSpec moved = spec;
+  moved.centre.x() += 0.01;
+  (void)Hybrid(moved, map_cache(dir, moved));
+  EXPECT_EQ(files().size(), 2u);
+  fs::resize_file(mine, size / 2);
+  EXPECT_TRUE(same(Hybrid(spec, map_cache(dir, spec)).map(), computed.map()));
+  EXPECT_EQ(fs::file_size(mine), size);
+  std::ofstream(mine, std::ios::trunc) << "not a map";
+  EXPECT_TRUE(same(Hybrid(spec, map_cache(dir, spec)).map(), computed.map()));
+  EXPECT_EQ(fs::file_size(mine), size);
+}
+
+}  // namespace
+}  // namespace hcosim::deformable
