@@ -35,6 +35,10 @@ volatile std::sig_atomic_t g_signal = 0;
 void on_signal(int s) { g_signal = s; }
 
 constexpr double kStopGraceS = 2.0;
+// Participant ids of restarted services: above those Fast DDS gives the
+// first participants of a host (0, 1, ...), below 120 (the ports of a
+// domain: 7400 + 250 * domain + 11 + 2 * id).
+constexpr int kRestartIds = 60;
 constexpr double kJoinWaitS = 10.0;  // s before up names the services that have not joined
 
 struct Child {
@@ -46,6 +50,7 @@ struct Child {
   int status = 0;  // waitpid status once reaped
   bool reaped = false;
   int restarts = 0;
+  std::string env;  // one NAME=VALUE added to its environment ("" none)
 };
 
 // build/bin/hcosim_<kind>, searched in $HCOSIM_SERVICE_PATH, then beside this program.
@@ -91,6 +96,10 @@ pid_t spawn(const Child& c, const fs::path& log, bool append = false) {
   argv.push_back(const_cast<char*>(c.exe.c_str()));
   for (const auto& a : c.args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
+  std::vector<char*> envp;
+  for (char** e = environ; *e; ++e) envp.push_back(*e);
+  if (!c.env.empty()) envp.push_back(const_cast<char*>(c.env.c_str()));
+  envp.push_back(nullptr);
   const std::string failed = "hcosim up: cannot exec " + c.exe + "\n";
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
@@ -109,7 +118,7 @@ pid_t spawn(const Child& c, const fs::path& log, bool append = false) {
   syscall(SYS_close_range, 3u, ~0u, 0u);
   signal(SIGINT, SIG_DFL);
   signal(SIGTERM, SIG_DFL);
-  execv(c.exe.c_str(), argv.data());
+  execve(c.exe.c_str(), argv.data(), envp.data());
   if (write(STDERR_FILENO, failed.data(), failed.size()) < 0) _exit(127);
   _exit(127);
 }
@@ -326,6 +335,7 @@ int up(const std::vector<std::string>& argv) {
   bool crashed = false;  // some process died by a signal: its shared memory stays behind
   const Child shm_clean{"shm_clean", "/bin/sh", {"-c", "fastdds shm clean"}};
   pid_t cleaner = -1;    // a running shm_clean, or -1
+  int next_id = 0;       // restarts so far, for participant ids
   // Say when every service's participant has been discovered, or after
   // kJoinWaitS which have not.
   bool all_joined = false, join_warned = false;
@@ -370,6 +380,10 @@ int up(const std::vector<std::string>& argv) {
             std::fprintf(f, "--- hcosim up: ended (%s), restart %d ---\n", describe(c->status).c_str(), c->restarts);
             std::fclose(f);
           }
+          // A participant id of its own: with the dead process's id it
+          // would reuse its shared-memory ports, which the others keep
+          // pushing to until Fast DDS finds them dead (seconds).
+          c->env = "HCOSIM_PARTICIPANT_ID=" + std::to_string(kRestartIds + next_id++);
           c->pid = spawn(*c, log, true);
           c->reaped = false;
           // The killed process's segments go now, not at the end of a run

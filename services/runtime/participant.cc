@@ -33,6 +33,14 @@ Participant::Participant(int domain, const std::string& name, const std::string&
   if (factory->get_participant_qos_from_profile("hcosim_participant", qos) != ReturnCode_t::RETCODE_OK)
     throw std::runtime_error(qos_file + " has no participant profile 'hcosim_participant'");
   qos.name(name);
+  // hcosim up gives a restarted service a participant id (docs/deployment.md).
+  if (const char* id = std::getenv("HCOSIM_PARTICIPANT_ID"); id && *id) {
+    char* end = nullptr;
+    const long v = std::strtol(id, &end, 10);
+    if (*end != '\0' || v < 0 || v > 119)
+      throw std::runtime_error(std::string("HCOSIM_PARTICIPANT_ID must be a whole number in 0..119, not '") + id + "'");
+    qos.wire_protocol().participant_id = int32_t(v);
+  }
   add_security(security, qos);
   participant_ = factory->create_participant(domain, qos, listener, StatusMask::all());
   if (!participant_ && security.on())

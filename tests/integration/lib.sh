@@ -62,8 +62,9 @@ from_deploy() {
 
 alive() { kill -0 "$1" 2>/dev/null; }
 
-# cube_alone FILE DURATION: the default deployment's hybrid cube served alone
-# by a deformable service in real time for DURATION s, into $WORK/FILE
+# cube_alone FILE DURATION [NAME]: the default deployment's hybrid cube
+# (named NAME, else cube) served alone by a deformable service in real time
+# for DURATION s, into $WORK/FILE
 cube_alone() {
   deployment "$1" <<YAML
 mode: realtime
@@ -75,6 +76,6 @@ services:
     params:
       device: omni
       objects:
-        - {name: cube, model: hybrid, centre: [0, 0, 0.05], size: 0.1}
+        - {name: ${3:-cube}, model: hybrid, centre: [0, 0, 0.05], size: 0.1}
 YAML
 }

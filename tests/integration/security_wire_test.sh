@@ -7,8 +7,11 @@ source "$(dirname "$0")/lib.sh"
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 cd "$WORK"
 command -v tshark >/dev/null || { echo "SKIP: no tshark (deploy/setup.sh installs it)"; exit 77; }
-timeout 5 tshark -i lo -a duration:1 -w probe.pcap -q >probe.log 2>&1 ||
-  { echo "SKIP: tshark cannot capture on lo: $(tail -n 2 probe.log)"; exit 77; }
+if ! timeout 60 tshark -i lo -a duration:1 -w probe.pcap -q >probe.log 2>&1; then
+  grep -qiE "permission|not permitted|could not be initiated" probe.log &&
+    { echo "SKIP: tshark may not capture on lo here: $(tail -n 2 probe.log)"; exit 77; }
+  fail "tshark failed to capture on lo: $(tail -n 5 probe.log)"
+fi
 
 # UDP only, on 127.0.0.1: no SHM transport, so every sample crosses lo.
 sed -e '/<userTransports>/,/<\/userTransports>/{/hcosim_shm/d}' \
@@ -19,18 +22,7 @@ grep -q "hcosim_shm</transport_id>" udp.xml && ! sed -n '/<userTransports>/,/<\/
 export HCOSIM_QOS=$WORK/udp.xml
 
 # A mesh named so that it cannot appear by chance.
-deployment plain.yaml <<YAML
-mode: realtime
-duration: 6
-services:
-  - name: objects
-    kind: deformable
-    rate: 1000
-    params:
-      device: omni
-      objects:
-        - {name: wiremarker, model: hybrid, centre: [0, 0, 0.05], size: 0.1}
-YAML
+cube_alone plain.yaml 6 wiremarker
 { echo "security: {dir: keys}"; cat plain.yaml; } >secure.yaml
 "$BIN/hcosim" security init --deployment secure.yaml >init.log 2>&1 || fail "security init exited $?"
 

@@ -8,7 +8,7 @@ source "$(dirname "$0")/lib.sh"
 cd "$WORK"
 deployment stall.yaml <<YAML
 mode: realtime
-duration: 14
+duration: 24
 services:
   - name: omni
     kind: haptic
@@ -28,7 +28,7 @@ start: [0, 0, 0.12]
 actions:
   - move_to: {to: [0, 0, 0.102], speed: 0.05}
   - press: {depth: 0.008, speed: 0.01}
-  - hold: {duration: 12}
+  - hold: {duration: 22}
 YAML
 start status "$BIN/hcosim" echo ServiceStatus --count 0 --timeout 16
 start up "$BIN/hcosim" up stall.yaml --out out
@@ -36,10 +36,9 @@ for i in $(seq 100); do grep -q "every service joined" up.log && break; sleep 0.
 start haptic_reader "$BIN/hcosim" echo HapticState --count 0 --timeout 30
 start mesh_reader "$BIN/hcosim" echo DeformedMesh --count 0 --timeout 30
 start recorder "$BIN/hcosim" record all.rec --duration 30
-sleep 3
-for n in haptic_reader mesh_reader recorder; do
-  [ -s "$n.log" ] || [ "$n" = recorder ] || fail "$n received nothing before being stopped"
-done
+# Stop them once they receive (discovery takes seconds on a loaded machine).
+for i in $(seq 150); do [ -s haptic_reader.log ] && [ -s mesh_reader.log ] && break; sleep 0.1; done
+for n in haptic_reader mesh_reader; do [ -s "$n.log" ] || fail "$n received nothing in 15 s"; done
 for p in "${PIDS[@]:2}"; do kill -STOP "$p"; done
 t0=$(date +%s%N)
 sleep 6
@@ -57,5 +56,5 @@ awk -v r="$rate" 'BEGIN { exit !(r >= 950) }' ||
   fail "the haptic loop stepped at $rate Hz while readers were stopped: $(grep '"omni"' status.log | tail -n 3)"
 grep -qE "cube: [0-9]+ ticks in contact" out/logs/objects.log || fail "the cube reported no contact: $(tail -n 5 out/logs/objects.log)"
 contact=$(sed -nE 's/cube: ([0-9]+) ticks in contact.*/\1/p' out/logs/objects.log)
-[ "$contact" -gt 8000 ] || fail "the cube answered $contact ticks in contact over 12 s of holding"
+[ "$contact" -gt 15000 ] || fail "the cube answered $contact ticks in contact over 22 s of holding"
 echo "stall_test: ok (haptic loop $rate Hz with three readers stopped; $contact ticks of contact)"
