@@ -24,8 +24,8 @@ namespace hcosim::cli {
 namespace {
 
 const std::vector<Suite>& suites() {
-  static const std::vector<Suite> all = {dds_suite(),   massspring_suite(), haptic_suite(), hybrid_suite(),
-                                         rigid_suite(), tracking_suite(),   arview_suite()};
+  static const std::vector<Suite> all = {dds_suite(),    massspring_suite(), haptic_suite(), hybrid_suite(),
+                                         rigid_suite(),  tracking_suite(),   arview_suite(), soak_suite()};
   return all;
 }
 
@@ -104,7 +104,7 @@ int bench(const std::vector<std::string>& argv) {
   std::string names;
   for (const auto& s : suites()) {
     names += (names.empty() ? "" : ", ") + std::string(s.name);
-    if (which == "all" || which == s.name) chosen.push_back(&s);
+    if ((which == "all" && !s.alone) || which == s.name) chosen.push_back(&s);
   }
   if (!a.has("--out")) throw std::invalid_argument("bench needs --out DIR");
   const fs::path dir = a.get("--out", "");

@@ -73,6 +73,7 @@ struct Suite {
   std::vector<Table> tables = {};  // rows of a name without one get a table captioned by its name
   std::vector<Plot> plots = {};
   std::vector<Goal> goals = {};
+  bool alone = false;  // run only when named, not by 'all' (the half-hour soak)
 };
 
 inline void progress(const std::string& line) { std::cerr << "bench: " << line << std::endl; }
@@ -94,6 +95,9 @@ Suite tracking_suite();
 
 // The AR view's frame against OpenCV drawing the same triangles: bench_arview.cc.
 Suite arview_suite();
+
+// The default deployment for half an hour: bench_soak.cc.
+Suite soak_suite();
 
 // The DDS transport: haptic round trips and mesh publishing against bare
 // Fast DDS: bench_dds.cc.

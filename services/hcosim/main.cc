@@ -98,8 +98,9 @@ Commands:
         publish a recording's samples again on their simulated-time schedule
         (or the one they were received on)
   bench SUITE|all|list [--quick] --out DIR
-        run one benchmark suite or all of them; write DIR/SUITE.json per suite,
-        its plots, and DIR/index.md, the report (docs/PERFORMANCE.md)
+        run one benchmark suite or all of them (soak, half an hour, only when
+        named); write DIR/SUITE.json per suite, its plots, and DIR/index.md,
+        the report (docs/PERFORMANCE.md)
   track --source VIDEO_OR_FOLDER --camera INTRINSICS.yaml --tag-size M --out POSES.jsonl
         [--truth TRUTH.jsonl] [--family F] [--decimate D] [--sigma S] [--threads N]
         detect AprilTags in a video or an image folder, one JSON line per

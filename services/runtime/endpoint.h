@@ -160,6 +160,14 @@ class Reader {
     return reader_->wait_for_unread_message(to_dds(timeout));
   }
 
+  // Samples Fast DDS reports this reader will never receive (gaps the
+  // writer could not repair, or skipped), since it was made.
+  std::uint64_t lost() const {
+    eprosima::fastdds::dds::SampleLostStatus s;
+    reader_->get_sample_lost_status(s);
+    return std::uint64_t(s.total_count);
+  }
+
   // Writers currently matched.
   int matched() const {
     eprosima::fastdds::dds::SubscriptionMatchedStatus s;

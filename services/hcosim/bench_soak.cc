@@ -1,0 +1,222 @@
+// bench soak: the default deployment (deploy/default.yaml: its scene and
+// services) in real time for 30 minutes (2 with --quick), its virtual
+// user's tour played again and again, watched from a participant of the
+// bench's own.
+//
+// window: one row per minute (10 s with --quick): the services' resident
+//   memory (rss_mb, the sum of their VmRSS at the window's end), their
+//   overruns in the window (from ServiceStatus), the samples Fast DDS
+//   reports lost to the bench's readers of the reliable topics
+//   (DeformedMesh, RigidBodyState, MarkerPose, ServiceStatus: their
+//   SampleLostStatus), and the haptic round trip as the bench sees it:
+//   from a HapticState's send (its stamp's wall clock) to the arrival of
+//   each ForceFeedback answering it (p50, p99 over the window).
+// summary: rss_growth_pct (last window's rss_mb against the first's),
+//   reliable_lost (all windows), p99_drift_pct (|last window's p99 - the
+//   first's| against the first's), overruns (all windows).
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <sstream>
+#include <thread>
+#include <unordered_map>
+
+#include <yaml-cpp/yaml.h>
+
+#include "bench.h"
+#include "endpoint.h"
+#include "service.h"
+
+namespace hcosim::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The default deployment in real time on `domain` for `seconds`, its tour
+// repeated to last that long, written into `dir`.
+fs::path soak_deployment(const fs::path& dir, int domain, double seconds) {
+  const fs::path deploy = fs::path(rt::default_qos_file()).parent_path();
+  YAML::Node tour = YAML::LoadFile((deploy / "scripts" / "tour.yaml").string());
+  YAML::Node actions(YAML::NodeType::Sequence);
+  // One tour takes about 20 s: enough of them for the run, and one more.
+  for (int k = 0; k < int(seconds / 20) + 2; ++k)
+    for (const auto& a : tour["actions"]) actions.push_back(a);
+  tour["actions"] = actions;
+  std::ofstream(dir / "tour_loop.yaml") << YAML::Dump(tour) << "\n";
+
+  YAML::Node d = YAML::LoadFile((deploy / "default.yaml").string());
+  d["domain"] = domain;
+  d["mode"] = "realtime";
+  d["duration"] = 0;  // the bench stops it
+  for (auto s : d["services"]) {
+    if (s["kind"].as<std::string>() == "haptic") s["params"]["script"] = (dir / "tour_loop.yaml").string();
+    if (s["kind"].as<std::string>() == "ar_view") s["params"].remove("snapshots");
+  }
+  const fs::path file = dir / "soak.yaml";
+  std::ofstream(file) << YAML::Dump(d) << "\n";
+  return file;
+}
+
+// kB of resident memory of `pid`, 0 if it is gone.
+double rss_kb(pid_t pid) {
+  std::ifstream f("/proc/" + std::to_string(pid) + "/status");
+  for (std::string line; std::getline(f, line);)
+    if (line.rfind("VmRSS:", 0) == 0) return std::stod(line.substr(6));
+  return 0;
+}
+
+// The pids hcosim up reports starting ("  started NAME pid N ...").
+std::map<std::string, pid_t> started(const fs::path& log) {
+  std::map<std::string, pid_t> out;
+  std::ifstream f(log);
+  const std::regex re(R"(^\s+started\s+(\S+)\s+pid\s+(\d+))");
+  std::smatch m;
+  for (std::string line; std::getline(f, line);)
+    if (std::regex_search(line, m, re)) out[m[1]] = pid_t(std::stol(m[2]));
+  return out;
+}
+
+std::string tail(const fs::path& log) {
+  std::ifstream f(log);
+  std::vector<std::string> lines;
+  for (std::string l; std::getline(f, l);) lines.push_back(l);
+  std::string out;
+  for (std::size_t i = lines.size() > 10 ? lines.size() - 10 : 0; i < lines.size(); ++i) out += lines[i] + "\n";
+  return out;
+}
+
+std::vector<Row> soak_rows(const Context& c) {
+  const double total = c.quick ? 120 : 1800, window = c.quick ? 10 : 60;
+  const fs::path dir = c.out / "soak_run";
+  fs::create_directories(dir);
+  const fs::path file = soak_deployment(dir, c.domain, total), log = dir / "up.log";
+  progress("soak: the default deployment in real time for " + text(total) + " s, a row every " + text(window) +
+           " s (" + dir.string() + ")");
+
+  rt::Participant p(c.domain, "bench_soak");
+  rt::Reader<HapticState> states(p);
+  rt::Reader<ForceFeedback> forces(p);
+  rt::Reader<ServiceStatus> status(p);
+  rt::Reader<DeformedMesh> meshes(p);
+  rt::Reader<RigidBodyState> bodies(p);
+  rt::Reader<MarkerPose> poses(p);
+  auto lost = [&] { return double(status.lost() + meshes.lost() + bodies.lost() + poses.lost()); };
+
+  const std::string self = fs::read_symlink("/proc/self/exe").string();
+  const pid_t up = fork();
+  if (up == 0) {
+    freopen(log.c_str(), "w", stdout);
+    freopen(log.c_str(), "a", stderr);
+    execl(self.c_str(), self.c_str(), "up", file.c_str(), "--out", (dir / "out").c_str(), nullptr);
+    _exit(127);
+  }
+  auto stop = [&] {
+    kill(up, SIGINT);
+    int st = 0;
+    waitpid(up, &st, 0);
+    return st;
+  };
+  // Wait for every service to join before the first window.
+  const std::int64_t join_deadline = rt::mono_ns() + std::int64_t(60e9);
+  while (tail(log).find("every service joined") == std::string::npos) {
+    if (rt::mono_ns() > join_deadline || waitpid(up, nullptr, WNOHANG) == up) {
+      stop();
+      throw std::runtime_error("soak: the deployment did not start:\n" + tail(log));
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  const std::map<std::string, pid_t> pids = started(log);
+
+  std::unordered_map<std::uint64_t, std::int64_t> sent;  // omni's HapticState seq -> its wall clock, ns
+  std::map<std::string, std::uint64_t> overruns;         // latest ServiceStatus.overruns per service
+  rt::Window rtt_us(1 << 20);
+  std::vector<Row> rows;
+  double lost_before = lost(), overruns_before = 0;
+  const std::int64_t start = rt::mono_ns();
+  for (int w = 1; w * window <= total + 1e-9; ++w) {
+    const std::int64_t end = start + std::int64_t(w * window * 1e9);
+    while (rt::mono_ns() < end) {
+      forces.wait(std::chrono::milliseconds(2));
+      states.take([&](const HapticState& s) {
+        if (s.device() == "omni") sent[s.seq()] = s.stamp().wall_time_ns();
+      });
+      const std::int64_t now = rt::wall_ns();
+      forces.take([&](const ForceFeedback& f) {
+        auto it = sent.find(f.answers_seq());
+        if (f.device() == "omni" && it != sent.end()) rtt_us.add((now - it->second) * 1e-3);
+      });
+      status.take([&](const ServiceStatus& s) { overruns[s.service().to_string()] = s.overruns(); });
+      meshes.take([](const DeformedMesh&) {});
+      bodies.take([](const RigidBodyState&) {});
+      poses.take([](const MarkerPose&) {});
+      // Seqs older than a second are answered or never will be.
+      if (sent.size() > 4000)
+        for (auto it = sent.begin(); it != sent.end();) it = now - it->second > 1'000'000'000 ? sent.erase(it) : ++it;
+    }
+    if (waitpid(up, nullptr, WNOHANG) == up) throw std::runtime_error("soak: the deployment ended early:\n" + tail(log));
+    double rss = 0;
+    for (const auto& [name, pid] : pids) rss += rss_kb(pid);
+    double over = 0;
+    for (const auto& [name, n] : overruns) over += double(n);
+    const double l = lost();
+    rows.push_back({"window", {{"t_s", w * window}},
+                    {{"rss_mb", rss / 1024}, {"overruns", over - overruns_before}, {"reliable_lost", l - lost_before},
+                     {"haptic_rtt_p50_us", rtt_us.percentile(0.5)}, {"haptic_rtt_p99_us", rtt_us.percentile(0.99)},
+                     {"answers", double(rtt_us.size())}}});
+    progress("soak: " + text(w * window) + " s: rss " + text(rss / 1024) + " MB, haptic round trip p99 " +
+             text(rtt_us.percentile(0.99)) + " us, " + text(l - lost_before) + " lost, " +
+             text(over - overruns_before) + " overruns");
+    lost_before = l, overruns_before = over;
+    rtt_us.clear();
+  }
+  stop();
+
+  auto metric = [](const Row& r, const std::string& k) -> double {
+    for (const auto& [name, v] : r.metrics)
+      if (name == k) return v;
+    return NAN;
+  };
+  const Row& first = rows.front();
+  const Row& last = rows.back();
+  double lost_all = 0, over_all = 0;
+  for (const Row& r : rows) lost_all += metric(r, "reliable_lost"), over_all += metric(r, "overruns");
+  const double p99_0 = metric(first, "haptic_rtt_p99_us");
+  rows.push_back({"summary", {{"seconds", total}},
+                  {{"rss_growth_pct", 100 * (metric(last, "rss_mb") / metric(first, "rss_mb") - 1)},
+                   {"reliable_lost", lost_all},
+                   {"p99_drift_pct", 100 * std::abs(metric(last, "haptic_rtt_p99_us") - p99_0) / p99_0},
+                   {"overruns", over_all},
+                   {"windows", double(rows.size())}}});
+  return rows;
+}
+
+}  // namespace
+
+Suite soak_suite() {
+  Suite s{"soak", "the default deployment in real time for 30 min (2 with --quick): memory, loss, overruns, haptic "
+                  "round trip over time",
+          soak_rows};
+  s.alone = true;
+  s.tables = {{"window",
+               "deploy/default.yaml's scene and services in real time, the tour played again and again, one row per "
+               "window: the services' resident memory at its end (sum of VmRSS), their overruns in it (ServiceStatus), "
+               "samples Fast DDS reports lost to the bench's readers of DeformedMesh, RigidBodyState, MarkerPose and "
+               "ServiceStatus (reliable), and the haptic round trip the bench sees (HapticState sent, by its stamp, "
+               "to each ForceFeedback answering it received), p50 and p99 over the window."},
+              {"summary",
+               "The whole run: rss_growth_pct is the last window's memory against the first's, p99_drift_pct the "
+               "last window's round-trip p99 against the first's (absolute), reliable_lost and overruns summed."}};
+  s.plots = {{"window", "t_s", "haptic_rtt_p99_us", "time (s)", "haptic round trip p99 (us)", {}, {}, {}, false, false},
+             {"window", "t_s", "rss_mb", "time (s)", "services' resident memory (MB)", {}, {}, {}, false, false}};
+  s.goals = {{"memory grows under 1% from the first window to the last", "summary", "rss_growth_pct", 1},
+             {"no sample lost on reliable topics", "summary", "reliable_lost", 0},
+             {"haptic round-trip p99 within 20% from the first window to the last", "summary", "p99_drift_pct", 20}};
+  return s;
+}
+
+}  // namespace hcosim::cli
