@@ -45,7 +45,7 @@ fs::path soak_deployment(const fs::path& dir, int domain, double seconds) {
   YAML::Node actions(YAML::NodeType::Sequence);
   // One tour takes about 20 s: enough of them for the run, and one more.
   for (int k = 0; k < int(seconds / 20) + 2; ++k)
-    for (const auto& a : tour["actions"]) actions.push_back(a);
+    for (const auto& a : tour["actions"]) actions.push_back(YAML::Clone(a));
   tour["actions"] = actions;
   std::ofstream(dir / "tour_loop.yaml") << YAML::Dump(tour) << "\n";
 
@@ -92,12 +92,14 @@ std::string tail(const fs::path& log) {
 
 std::vector<Row> soak_rows(const Context& c) {
   const double total = c.quick ? 120 : 1800, window = c.quick ? 10 : 60;
-  const fs::path dir = c.out / "soak_run";
+  // Absolute: the deployment names the script, read from its own folder.
+  const fs::path dir = fs::absolute(c.out / "soak_run");
   fs::create_directories(dir);
   const fs::path file = soak_deployment(dir, c.domain, total), log = dir / "up.log";
   progress("soak: the default deployment in real time for " + text(total) + " s, a row every " + text(window) +
            " s (" + dir.string() + ")");
 
+  rt::install_stop_handlers();  // Ctrl-C stops the deployment too, and ends the suite
   rt::Participant p(c.domain, "bench_soak");
   rt::Reader<HapticState> states(p);
   rt::Reader<ForceFeedback> forces(p);
@@ -141,6 +143,10 @@ std::vector<Row> soak_rows(const Context& c) {
   for (int w = 1; w * window <= total + 1e-9; ++w) {
     const std::int64_t end = start + std::int64_t(w * window * 1e9);
     while (rt::mono_ns() < end) {
+      if (rt::stop_requested()) {
+        stop();
+        throw std::runtime_error("soak: stopped by a signal in window " + std::to_string(w));
+      }
       forces.wait(std::chrono::milliseconds(2));
       states.take([&](const HapticState& s) {
         if (s.device() == "omni") sent[s.seq()] = s.stamp().wall_time_ns();

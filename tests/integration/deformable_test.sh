@@ -4,13 +4,7 @@
 # counted. Meshes reach a subscriber; a late subscriber still gets both
 # topologies.
 source "$(dirname "$0")/lib.sh"
-cat >"$WORK/press.yaml" <<'YAML'
-start: [0, 0, 0.12]
-actions:
-  - move_to: {to: [0, 0, 0.102], speed: 0.05}
-  - press: {depth: 0.008, speed: 0.01}
-  - hold: {duration: 6}
-YAML
+press_script 6
 deployment up.yaml <<'YAML'
 mode: realtime
 duration: 8

@@ -79,3 +79,16 @@ services:
         - {name: ${3:-cube}, model: hybrid, centre: [0, 0, 0.05], size: 0.1}
 YAML
 }
+
+# press_script HOLD: $WORK/press.yaml, the virtual user pressing the top of
+# the hybrid cube centred at [0, 0, 0.05] (device centre [0, 0, 0.1]) 8 mm
+# deep, then holding there for HOLD s
+press_script() {
+  cat >"$WORK/press.yaml" <<YAML
+start: [0, 0, 0.12]
+actions:
+  - move_to: {to: [0, 0, 0.102], speed: 0.05}
+  - press: {depth: 0.008, speed: 0.01}
+  - hold: {duration: $1}
+YAML
+}

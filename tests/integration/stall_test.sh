@@ -24,13 +24,7 @@ services:
       objects:
         - {name: cube, model: hybrid, centre: [0, 0, 0.05]}
 YAML
-cat >press.yaml <<'YAML'
-start: [0, 0, 0.12]
-actions:
-  - move_to: {to: [0, 0, 0.102], speed: 0.05}
-  - press: {depth: 0.008, speed: 0.01}
-  - hold: {duration: 26}
-YAML
+press_script 26
 start status "$BIN/hcosim" echo ServiceStatus --count 0 --timeout 40
 start up "$BIN/hcosim" up stall.yaml --out out
 for i in $(seq 100); do grep -q "every service joined" up.log && break; sleep 0.1; done
