@@ -309,13 +309,16 @@ int up(const std::vector<std::string>& argv) {
   // up's participant exists before the services, so that the recorder's
   // readers are there when their writers appear.
   Joined joined;
-  rt::Participant participant(d.domain, "hcosim_up", rt::default_qos_file(), &joined, false, security);
+  // Owned, so that it is gone before the shared-memory clean at the end:
+  // a dead process's ports that it holds open would stay behind.
+  auto participant =
+      std::make_unique<rt::Participant>(d.domain, "hcosim_up", rt::default_qos_file(), &joined, false, security);
   // In lockstep the recorder's readers are reliable: the services wait for
   // them too, so a recording holds every sample.
-  participant.set_lockstep(d.mode == rt::Mode::kLockstep);
-  Progress progress(participant);
+  participant->set_lockstep(d.mode == rt::Mode::kLockstep);
+  auto progress = std::make_unique<Progress>(*participant);
   std::unique_ptr<rt::Recorder> recorder;
-  if (!record.empty()) recorder = std::make_unique<rt::Recorder>(participant, record, std::vector<std::string>{});
+  if (!record.empty()) recorder = std::make_unique<rt::Recorder>(*participant, record, std::vector<std::string>{});
   for (auto& c : children) {
     c.pid = spawn(c, logs / (c.name + ".log"));
     std::printf("  started %-16s pid %-7d %s\n", c.name.c_str(), int(c.pid), c.exe.c_str());
@@ -341,7 +344,7 @@ int up(const std::vector<std::string>& argv) {
   bool all_joined = false, join_warned = false;
   while (reason.empty()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(recorder ? 2 : 20));
-    progress.update();
+    progress->update();
     if (!all_joined) {
       std::string missing;
       for (const auto& c : children)
@@ -351,12 +354,12 @@ int up(const std::vector<std::string>& argv) {
         end = rt::mono_ns() + std::int64_t(d.duration_s * 1e9);
       if (missing.empty()) {
         all_joined = true;
-        progress.finish();
+        progress->finish();
         std::printf("hcosim up: every service joined domain %d in %.2f s\n", d.domain, waited);
         std::fflush(stdout);
       } else if (!join_warned && waited > kJoinWaitS) {
         join_warned = true;
-        progress.finish();
+        progress->finish();
         std::printf("hcosim up: after %.0f s still no status from: %s\n", kJoinWaitS, missing.c_str());
         std::fflush(stdout);
       }
@@ -371,7 +374,7 @@ int up(const std::vector<std::string>& argv) {
         if (failed(*c) && c->policy == rt::OnFailure::kRestart && c->restarts < rt::kMaxRestarts) {
           ++c->restarts;
           crashed = crashed || WIFSIGNALED(c->status);
-          progress.finish();
+          progress->finish();
           std::printf("hcosim up: service '%s' ended (%s); restarting it (%d of %d)\n", c->name.c_str(),
                       describe(c->status).c_str(), c->restarts, rt::kMaxRestarts);
           std::fflush(stdout);
@@ -391,7 +394,7 @@ int up(const std::vector<std::string>& argv) {
           // polling (the tool removes only segments nobody holds).
           if (WIFSIGNALED(c->status) && cleaner < 0) cleaner = spawn(shm_clean, logs / "shm_clean.log", true);
         } else if (failed(*c) && c->policy == rt::OnFailure::kIgnore) {
-          progress.finish();
+          progress->finish();
           std::printf("hcosim up: service '%s' ended (%s); on_failure: ignore, the others run on\n", c->name.c_str(),
                       describe(c->status).c_str());
           std::fflush(stdout);
@@ -415,7 +418,7 @@ int up(const std::vector<std::string>& argv) {
         // A lockstep follower that exits 0 has seen the last tick; the clock ends the run.
       }
   }
-  progress.finish();
+  progress->finish();
   crashed = stop_all(children) || crashed;
   if (recorder) {
     recorder->close();
@@ -431,6 +434,9 @@ int up(const std::vector<std::string>& argv) {
     }
   }
   if (cleaner > 0) waitpid(cleaner, nullptr, 0);
+  recorder.reset();
+  progress.reset();
+  participant.reset();
   if (crashed) clean_shared_memory();
 
   std::printf("hcosim up: %s after %.1f s\n", reason.c_str(), (rt::mono_ns() - start) * 1e-9);

@@ -6,7 +6,7 @@
 # at its duration with exit 0, no process and no shared-memory segment of
 # it left (ctest runs this test alone, so /dev/shm holds only its own).
 source "$(dirname "$0")/lib.sh"
-shm_before=$(ls /dev/shm | grep -c fastrtps)
+shm_before=$(shm_segments)
 from_deploy default.yaml  # for its scripts
 cd "$WORK"
 # The default scene's services in real time, each restarted when it
@@ -85,7 +85,7 @@ resumed probe HapticState '.device == "probe"'
 for pid in $(sed -nE 's/.*pid ([0-9]+).*/\1/p' up.log); do
   alive "$pid" && fail "process $pid still running after up exited"
 done
-shm_after=$(ls /dev/shm | grep -c fastrtps)
+shm_after=$(shm_segments)
 [ "$shm_after" -le "$shm_before" ] || fail "shared-memory segments left behind: $shm_before before, $shm_after after"
 cat resumed.txt
 echo "faults_test: ok ($(tail -n 1 samples.txt))"

@@ -92,3 +92,8 @@ actions:
   - hold: {duration: $1}
 YAML
 }
+
+# shm_segments: Fast DDS's shared-memory segments in /dev/shm (data and
+# ports), not the 32-byte named semaphores it leaves for every port number
+# ever used (sem.fastrtps_portN_mutex, which `fastdds shm clean` leaves too)
+shm_segments() { ls /dev/shm | grep '^fastrtps_' | wc -l; }

@@ -7,7 +7,7 @@
 # shared-memory segment of the run is left behind, the killed one's
 # included (ctest runs this test alone, so /dev/shm holds only its own).
 source "$(dirname "$0")/lib.sh"
-shm_before=$(ls /dev/shm | grep -c fastrtps)
+shm_before=$(shm_segments)
 
 deployment restart.yaml <<'YAML'
 mode: realtime
@@ -81,6 +81,6 @@ for log in restart restart2 ignore; do
     alive "$pid" && fail "$log: process $pid still running after up exited"
   done
 done
-shm_after=$(ls /dev/shm | grep -c fastrtps)
+shm_after=$(shm_segments)
 [ "$shm_after" -le "$shm_before" ] || fail "shared-memory segments left behind: $shm_before before, $shm_after after"
 echo "policy_test: ok"
