@@ -22,7 +22,6 @@
 #include <fstream>
 #include <map>
 #include <regex>
-#include <sstream>
 #include <thread>
 #include <unordered_map>
 

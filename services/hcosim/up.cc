@@ -35,9 +35,9 @@ volatile std::sig_atomic_t g_signal = 0;
 void on_signal(int s) { g_signal = s; }
 
 constexpr double kStopGraceS = 2.0;
-// Participant ids of restarted services: above those Fast DDS gives the
-// first participants of a host (0, 1, ...), below 120 (the ports of a
-// domain: 7400 + 250 * domain + 11 + 2 * id).
+// Participant ids of restarted services: from here to rt::kMaxParticipantId,
+// above those Fast DDS gives the first participants of a host (0, 1, ...),
+// taken in turn and again from the start when used up.
 constexpr int kRestartIds = 60;
 constexpr double kJoinWaitS = 10.0;  // s before up names the services that have not joined
 
@@ -386,7 +386,8 @@ int up(const std::vector<std::string>& argv) {
           // A participant id of its own: with the dead process's id it
           // would reuse its shared-memory ports, which the others keep
           // pushing to until Fast DDS finds them dead (seconds).
-          c->env = "HCOSIM_PARTICIPANT_ID=" + std::to_string(kRestartIds + next_id++);
+          c->env = "HCOSIM_PARTICIPANT_ID=" +
+                   std::to_string(kRestartIds + next_id++ % (rt::kMaxParticipantId + 1 - kRestartIds));
           c->pid = spawn(*c, log, true);
           c->reaped = false;
           // The killed process's segments go now, not at the end of a run

@@ -37,8 +37,9 @@ Participant::Participant(int domain, const std::string& name, const std::string&
   if (const char* id = std::getenv("HCOSIM_PARTICIPANT_ID"); id && *id) {
     char* end = nullptr;
     const long v = std::strtol(id, &end, 10);
-    if (*end != '\0' || v < 0 || v > 119)
-      throw std::runtime_error(std::string("HCOSIM_PARTICIPANT_ID must be a whole number in 0..119, not '") + id + "'");
+    if (*end != '\0' || v < 0 || v > kMaxParticipantId)
+      throw std::runtime_error("HCOSIM_PARTICIPANT_ID must be a whole number in 0.." + std::to_string(kMaxParticipantId) +
+                               ", not '" + id + "'");
     qos.wire_protocol().participant_id = int32_t(v);
   }
   add_security(security, qos);

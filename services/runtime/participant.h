@@ -18,6 +18,8 @@ namespace hcosim::rt {
 
 // Highest domain id that fits Fast DDS's port formula (7400 + 250 * domain).
 inline constexpr int kMaxDomain = 232;
+// Highest participant id whose ports fit a domain's 250 (7400 + 250 * domain + 11 + 2 * id).
+inline constexpr int kMaxParticipantId = 119;
 
 // QoS file used when none is named: $HCOSIM_QOS, else the tree's deploy/qos.xml.
 std::string default_qos_file();
