@@ -239,9 +239,25 @@ class Joined : public eprosima::fastdds::dds::DomainParticipantListener {
 
 // A process that died without closing its participant leaves shared-memory
 // segments behind; Fast DDS's tool removes the ones nobody uses.
-void clean_shared_memory() {
+// It misses one kind: Fast DDS 2.9 removes a port's segment when the last
+// process that opened it closes it, and a killed process never closes, so
+// every port it wrote to outlives its listener, without the lock file
+// (fastrtps_portN_el) by which the tool finds zombies. Once the run is over,
+// the domain's unicast ports (7400 + 250 * domain + 10 + 2 * id, + 1) that nobody
+// listens on go too, as the tool would treat them if it saw them.
+void clean_shared_memory(int domain) {
   if (std::system("fastdds shm clean > /dev/null 2>&1") != 0)
     std::cerr << "hcosim up: 'fastdds shm clean' failed; stale segments may remain in /dev/shm\n";
+  const fs::path shm = "/dev/shm";
+  const int first = 7400 + 250 * domain + 10;
+  for (int port = first; port < first + 2 * (rt::kMaxParticipantId + 1); ++port) {
+    const std::string name = "fastrtps_port" + std::to_string(port);
+    std::error_code ec;
+    if (!fs::exists(shm / name, ec) || fs::exists(shm / (name + "_el"), ec) || fs::exists(shm / (name + "_sl"), ec))
+      continue;
+    fs::remove(shm / name, ec);
+    fs::remove(shm / ("sem." + name + "_mutex"), ec);
+  }
 }
 
 }  // namespace
@@ -438,7 +454,7 @@ int up(const std::vector<std::string>& argv) {
   recorder.reset();
   progress.reset();
   participant.reset();
-  if (crashed) clean_shared_memory();
+  if (crashed) clean_shared_memory(d.domain);
 
   std::printf("hcosim up: %s after %.1f s\n", reason.c_str(), (rt::mono_ns() - start) * 1e-9);
   for (const auto& c : children)

@@ -87,5 +87,6 @@ for pid in $(sed -nE 's/.*pid ([0-9]+).*/\1/p' up.log); do
 done
 shm_after=$(shm_segments)
 [ "$shm_after" -le "$shm_before" ] || fail "shared-memory segments left behind: $shm_before before, $shm_after after"
+[ -z "$(domain_ports)" ] || fail "port segments of domain $DOMAIN left behind: $(domain_ports)"
 cat resumed.txt
 echo "faults_test: ok ($(tail -n 1 samples.txt))"

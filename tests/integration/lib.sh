@@ -97,3 +97,9 @@ YAML
 # ports), not the 32-byte named semaphores it leaves for every port number
 # ever used (sem.fastrtps_portN_mutex, which `fastdds shm clean` leaves too)
 shm_segments() { ls /dev/shm | grep '^fastrtps_' | wc -l; }
+# domain_ports: the port segments of $DOMAIN's participants (unicast ports
+# 7400 + 250 * domain + 10 + 2 * id and + 1, ids 0 to 119) left in /dev/shm
+domain_ports() {
+  local first=$((7400 + 250 * DOMAIN + 10))
+  ls /dev/shm | sed -nE 's/^fastrtps_port([0-9]+)$/\1/p' | awk -v f="$first" '$1 >= f && $1 < f + 240' | tr '\n' ' '
+}

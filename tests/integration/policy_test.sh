@@ -83,4 +83,5 @@ for log in restart restart2 ignore; do
 done
 shm_after=$(shm_segments)
 [ "$shm_after" -le "$shm_before" ] || fail "shared-memory segments left behind: $shm_before before, $shm_after after"
+[ -z "$(domain_ports)" ] || fail "port segments of domain $DOMAIN left behind: $(domain_ports)"
 echo "policy_test: ok"
