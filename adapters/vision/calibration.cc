@@ -20,8 +20,10 @@ std::vector<double> matrix(const std::string& file, const YAML::Node& root, cons
   if (!m.IsMap() || !m["rows"] || !m["cols"] || !m["data"] || !m["data"].IsSequence())
     throw config_error(file, m ? m : root, "'" + key + "' must be a matrix with rows, cols and data");
   const double r = config_number(file, m["rows"], key + ".rows"), c = config_number(file, m["cols"], key + ".cols");
-  // Distortion is written as 1 x n or n x 1.
-  const int n = int(r * c);
+  // Distortion is written as 1 x n or n x 1. Sizes are checked whole and
+  // small before they are multiplied (a fuzzed 4e13 x 3 overflowed an int).
+  const bool small = r == std::floor(r) && c == std::floor(c) && r >= 1 && c >= 1 && r <= 8 && c <= 8;
+  const int n = small ? int(r) * int(c) : 0;
   if (rows == 3 ? (r != 3 || c != 3) : ((r != 1 && c != 1) || n < 4 || n > max_cols))
     throw config_error(file, m["rows"],
                        rows == 3 ? "'" + key + "' must be 3x3"

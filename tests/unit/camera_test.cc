@@ -111,6 +111,11 @@ TEST(Camera, BadIntrinsicsFilesNameFileLineAndKey) {
   const std::string rational = good + "distortion_coefficients: {rows: 1, cols: 8, data: [0, 0, 0, 0, 0, 0, 0, 0]}\n";
   EXPECT_TRUE(std::regex_search(err(rational), std::regex("bad\\.yaml:2:[0-9]+: .*4 or 5 coefficients")))
       << err(rational);
+  // Sizes that are not small whole numbers: refused before rows x cols is formed.
+  const std::string huge = "camera_matrix: {rows: 3.95e13, cols: 3, data: [500, 0, 320, 0, 500, 240, 0, 0, 1]}\n";
+  EXPECT_NE(err(huge).find("'camera_matrix' must be 3x3"), std::string::npos) << err(huge);
+  const std::string fraction = good + "distortion_coefficients: {rows: 1, cols: 4.5, data: [0, 0, 0, 0]}\n";
+  EXPECT_NE(err(fraction).find("4 or 5 coefficients"), std::string::npos) << err(fraction);
   EXPECT_NE(err("distortion_model: equidistant\n" + good).find("bad.yaml:1:"), std::string::npos);
   EXPECT_NE(err("image_width: 640\n" + good).find("both image_width and image_height"), std::string::npos);
   EXPECT_EQ(err(good), "");
