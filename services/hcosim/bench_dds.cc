@@ -561,7 +561,7 @@ int bench_peer(const std::vector<std::string>& argv) {
   if (impl != "bare" && impl != "hcosim") throw std::invalid_argument("bench-peer: --impl must be bare or hcosim");
   rt::install_stop_handlers();
   if (a.get("--role", "pong") == "mesh")
-    return mesh_reader(impl, domain, int(a.number("--count", 0)), a.get("--out", "mesh_reader.txt"), end);
+    return mesh_reader(impl, domain, a.whole("--count", 0, 0, 1000000000), a.get("--out", "mesh_reader.txt"), end);
   if (impl == "bare") {
     Bare b = Bare::make<ForceFeedback, HapticState>(domain, "ForceFeedback", "HapticState");
     SampleInfo info;

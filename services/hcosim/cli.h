@@ -19,6 +19,8 @@ struct Args {
   bool has(const std::string& f) const { return flags.count(f) || switches.count(f); }
   std::string get(const std::string& f, const std::string& fallback) const;
   double number(const std::string& f, double fallback) const;  // throws std::invalid_argument
+  // A whole number in lo..hi; throws std::invalid_argument naming the range.
+  int whole(const std::string& f, int fallback, int lo, int hi) const;
 };
 
 // Throws std::invalid_argument naming an unknown option or a missing value.

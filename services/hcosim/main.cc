@@ -26,6 +26,13 @@ double Args::number(const std::string& f, double fallback) const {
   return v;
 }
 
+int Args::whole(const std::string& f, int fallback, int lo, int hi) const {
+  const double v = number(f, fallback);
+  if (v != std::floor(v) || v < lo || v > hi)
+    throw std::invalid_argument(f + " must be a whole number in " + std::to_string(lo) + ".." + std::to_string(hi));
+  return int(v);
+}
+
 Args parse(const std::vector<std::string>& argv, const std::set<std::string>& flags,
            const std::set<std::string>& switches) {
   Args a;
@@ -50,7 +57,7 @@ int domain_of(const Args& a) {
   const double d = a.number("--domain", env && *env ? std::atof(env) : 0.0);
   if (d != std::floor(d) || d < 0 || d > rt::kMaxDomain)
     throw std::invalid_argument("--domain must be a whole number in 0.." + std::to_string(rt::kMaxDomain));
-  return static_cast<int>(d);
+  return int(d);
 }
 
 rt::Security security_of(const Args& a) {

@@ -157,8 +157,7 @@ int init(const Args& a) {
   const std::string protection = a.get("--protection", "data");
   if (protection != "data" && protection != "all")
     throw std::invalid_argument("--protection must be 'data' or 'all', not '" + protection + "'");
-  const double days = a.number("--days", 365);
-  if (days < 1 || days > 36500 || days != std::floor(days)) throw std::invalid_argument("--days must be a whole number in 1..36500");
+  const int days = a.whole("--days", 365, 1, 36500);
 
   // Who gets a certificate: the tools, the lockstep clock, every service of
   // the deployment, and whoever is named.
@@ -186,7 +185,7 @@ int init(const Args& a) {
   }
   fs::create_directories(fs::path(dir) / "identities");
   fs::permissions(dir, fs::perms::owner_all, fs::perm_options::replace);
-  const std::string valid = std::to_string(int(days));
+  const std::string valid = std::to_string(days);
 
   // The CA: one key pair both for identities (PKI-DH) and for documents
   // (Access-Permissions). ECDSA P-256, which both plugins accept.

@@ -99,7 +99,7 @@ int track(const std::vector<std::string>& argv) {
   p.detector.family = a.get("--family", p.detector.family);
   p.detector.quad_decimate = a.number("--decimate", p.detector.quad_decimate);
   p.detector.quad_sigma = a.number("--sigma", p.detector.quad_sigma);
-  p.detector.nthreads = int(a.number("--threads", p.detector.nthreads));
+  p.detector.nthreads = a.whole("--threads", p.detector.nthreads, 1, 64);
   check(p);
   const std::string camera_file = a.get("--camera", "");
   Intrinsics k = read_intrinsics(camera_file);
@@ -181,11 +181,11 @@ int synth(const std::vector<std::string>& argv) {
         "usage: hcosim synth --out DIR [--frames 60] [--rate 30] [--resolution 640x480] [--condition clean|noisy|"
         "blurred] [--family tag36h11] [--tag-id 0] [--tag-size 0.05] [--video]");
   const auto [w, h] = parse_resolution(a.get("--resolution", "640x480"));
-  const double n = a.number("--frames", 60), rate = a.number("--rate", 30);
-  if (n < 1 || n > 1e5 || n != std::floor(n)) throw std::invalid_argument("--frames must be a whole number in 1..100000");
+  const int n = a.whole("--frames", 60, 1, 100000);
+  const double rate = a.number("--rate", 30);
   Marker m;
   m.family = a.get("--family", m.family);
-  m.id = int(a.number("--tag-id", m.id));
+  m.id = a.whole("--tag-id", m.id, 0, 1000000);
   m.tag_size = a.number("--tag-size", m.tag_size);
   const Intrinsics k = synthetic_intrinsics(w, h);
   SyntheticSource source(SyntheticCamera(k, m), condition(a.get("--condition", "clean")), rate, std::uint64_t(n));

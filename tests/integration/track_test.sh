@@ -76,6 +76,7 @@ sed 's/image_width: 640/image_width: 1280/; s/image_height: 480/image_height: 72
 expect_error 2 "calibrated at 1280x720, but the frames are 640x480" --source "$S/frames" --camera "$WORK/hd.yaml" \
   --tag-size 0.05 --out "$WORK/x.jsonl"
 expect_error 2 "track needs --tag-size" --source "$S/frames" --camera "$S/camera.yaml" --out "$WORK/x.jsonl"
+expect_error 2 "hcosim: --threads must be a whole number in 1\.\.64" --source "$S/frames" "${args[@]}" --threads 4e12
 expect_error 1 "cannot be written" --source "$S/frames" --camera "$S/camera.yaml" --tag-size 0.05 \
   --out "$WORK/absent/dir/x.jsonl"
 echo "track_test: ok"
