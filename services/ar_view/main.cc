@@ -101,10 +101,10 @@ int run(int argc, char** argv) {
   const std::string& name = svc.options().name;
   p.allow_only({"camera", "tag_id", "device", "objects", "video", "snapshots", "plots", "force_scale", "stylus", "fps"});
   const std::string camera = p.string("camera", "");
-  const int tag_id = int(p.number("tag_id", 0, 0, 1e6));
+  const int tag_id = p.whole("tag_id", 0, 0, 1000000);
   const std::string device = p.string("device", "omni");
   const std::vector<Item> items = items_of(p);
-  std::vector<double> snapshots = p.numbers("snapshots", 0, 1e6);
+  std::vector<double> snapshots = p.numbers("snapshots", 0, 1000000);
   std::sort(snapshots.begin(), snapshots.end());
   const bool plots = p.text("plots", "on", {"on", "off"}) == "on";
   const bool show_stylus = p.text("stylus", "on", {"on", "off"}) == "on";

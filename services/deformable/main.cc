@@ -45,12 +45,12 @@ std::unique_ptr<deformable::Object> make_object(const Params& o, const std::stri
     deformable::HybridSpec s;
     s.centre = {c[0], c[1], c[2]};
     s.size = o.number("size", s.size, 0.01, 2);
-    s.elements = int(o.number("elements", s.elements, 3, 100));
+    s.elements = o.whole("elements", s.elements, 3, 100);
     s.stiff_ratio = o.number("stiff_ratio", s.stiff_ratio, 1, 100);
     s.map = deformable::parse_visual_map(o.text("map", "mvc_sparse", {"mvc", "mvc_sparse", "trilinear"}));
     s.keep = o.number("keep", s.keep, 0.5, 1);
     s.behavior.dt = 1 / o.number("behavior_rate", 1000, 10, 10000);
-    s.visual_subdivisions = int(o.number("visual_subdivisions", s.visual_subdivisions, 1, 300));
+    s.visual_subdivisions = o.whole("visual_subdivisions", s.visual_subdivisions, 1, 300);
     s.visual_exponent = o.number("rounding", s.visual_exponent, 2, 64);
     std::printf("%s: hybrid, %d^3 chains and masses, %d visual vertices by %s; building the map (kept in %s)\n",
                 name.c_str(), s.elements, 6 * s.visual_subdivisions * s.visual_subdivisions + 2, deformable::name(s.map),
@@ -63,7 +63,7 @@ std::unique_ptr<deformable::Object> make_object(const Params& o, const std::stri
   s.shape = model == "sheet" ? deformable::Shape::sheet : deformable::Shape::semisphere;
   s.centre = {c[0], c[1], c[2]};
   s.size = o.number("size", s.size, 0.01, 2);
-  s.resolution = int(o.number("resolution", s.resolution, 3, 200));
+  s.resolution = o.whole("resolution", s.resolution, 3, 200);
   s.material.k = o.number("stiffness", s.material.k, 1e-3, 1e5);
   s.material.b = o.number("damping", s.material.b, 0, 1e3);
   s.prestretch = o.number("prestretch", s.prestretch, 0, 0.4);

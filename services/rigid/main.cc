@@ -79,7 +79,7 @@ int run(int argc, char** argv) {
   spec.tip_mass = p.number("tip_mass", spec.tip_mass, 1e-3, 10);
   const double stiffness = p.number("stiffness", 500, 1, 1e4);
   const double max_force = p.number("max_force", 3.3, 0.1, 100);
-  const int substeps = int(p.number("mujoco_substeps", 10, 1, 100));
+  const int substeps = p.whole("mujoco_substeps", 10, 1, 100);
 
   std::vector<Item> items;
   std::vector<rigid::Body> bodies;

@@ -226,6 +226,13 @@ double Params::number(const std::string& key, double fallback, double lo, double
   return v;
 }
 
+int Params::whole(const std::string& key, int fallback, int lo, int hi) const {
+  const double v = number(key, fallback, lo, hi);
+  if (v != std::floor(v))
+    throw config_error(file_, node_[key], "'" + key + "' = " + node_[key].Scalar() + " must be a whole number");
+  return int(v);
+}
+
 std::string Params::text(const std::string& key, const std::string& fallback,
                          const std::vector<std::string>& allowed) const {
   if (!node_ || !node_[key]) return fallback;

@@ -82,6 +82,8 @@ class Params {
   Params(std::string file, YAML::Node node);
   // The number at `key`, or `fallback` when absent; must lie in [lo, hi].
   double number(const std::string& key, double fallback, double lo, double hi) const;
+  // The whole number at `key`, or `fallback` when absent; must lie in [lo, hi].
+  int whole(const std::string& key, int fallback, int lo, int hi) const;
   // The string at `key`, or `fallback` when absent; must be one of `allowed`.
   std::string text(const std::string& key, const std::string& fallback, const std::vector<std::string>& allowed) const;
   // The string at `key`, or `fallback` when absent; any value.

@@ -32,10 +32,10 @@ vision::TrackerParams tracker_params(const Params& p) {
   d.family = p.text("family", d.family, {"tag36h11", "tag25h9", "tag16h5", "tagStandard41h12"});
   d.quad_decimate = p.number("quad_decimate", d.quad_decimate, 1, 8);
   d.quad_sigma = p.number("quad_sigma", d.quad_sigma, -5, 5);
-  d.nthreads = int(p.number("nthreads", d.nthreads, 1, 64));
+  d.nthreads = p.whole("nthreads", d.nthreads, 1, 64);
   d.refine_edges = on(p, "refine_edges", d.refine_edges);
   d.decode_sharpening = p.number("decode_sharpening", d.decode_sharpening, 0, 10);
-  d.max_hamming = int(p.number("max_hamming", d.max_hamming, 0, 3));
+  d.max_hamming = p.whole("max_hamming", d.max_hamming, 0, 3);
   d.refine_corners = on(p, "refine_corners", d.refine_corners);
   t.pose.refine = on(p, "refine_pose", t.pose.refine);
   t.tag_size = p.number("tag_size", t.tag_size, 1e-3, 10);
@@ -49,7 +49,7 @@ vision::Orbit orbit_params(const Params& p) {
   o.swing = p.number("swing", o.swing, 0, 0.9 * o.distance);
   o.tilt_deg = p.number("tilt", o.tilt_deg, 0, 79);
   o.base_tilt_deg = p.number("base_tilt", o.base_tilt_deg, 0, 79 - o.tilt_deg);
-  o.period = p.number("period", o.period, 0.1, 1e6);
+  o.period = p.number("period", o.period, 0.1, 1000000);
   o.upright = p.text("upright", "off", {"on", "off"}) == "on";
   o.sweep_deg = p.number("sweep", o.sweep_deg, 0, 179);
   return o;
@@ -65,7 +65,7 @@ int run(int argc, char** argv) {
   const std::string kind = p.text("source", "synthetic", {"synthetic", "folder", "video", "v4l2"});
   const vision::TrackerParams tp = tracker_params(p);
   const bool publish_frames = on(p, "frames", true), loop = on(p, "loop", false);
-  const int width = int(p.number("width", 640, 16, 8192)), height = int(p.number("height", 480, 16, 8192));
+  const int width = p.whole("width", 640, 16, 8192), height = p.whole("height", 480, 16, 8192);
   const std::string camera_file = p.path("camera");
 
   // The source, and the intrinsics its frames were taken with.
@@ -79,7 +79,7 @@ int run(int argc, char** argv) {
   if (kind == "synthetic") {
     vision::Marker m;
     m.family = tp.detector.family;
-    m.id = int(p.number("tag_id", 0, 0, 1e6));
+    m.id = p.whole("tag_id", 0, 0, 1000000);
     m.tag_size = tp.tag_size;
     m.sheet = p.number("sheet", m.sheet, 1.25, 10);
     const vision::Orbit path = orbit_params(p.map("orbit"));

@@ -150,6 +150,11 @@ TEST(Params, MapsAndNumberListsAreReadWithLocatedErrors) {
   EXPECT_NE(bad.find(":8:16: 'bad' must be a number"), std::string::npos) << bad;
   EXPECT_NE(far.find(":9:16: an entry of 'far', 9, is outside"), std::string::npos) << far;
   EXPECT_NE(message([&] { p.numbers("flat", 0, 5); }).find("'flat' must be a list of numbers"), std::string::npos);
+  EXPECT_EQ(p.whole("flat", 0, 0, 5), 3);
+  EXPECT_EQ(p.whole("absent", 4, 0, 5), 4);
+  EXPECT_NE(message([&] { p.whole("flat", 0, 0, 2); }).find(":10:13: 'flat' = 3 is outside"), std::string::npos);
+  EXPECT_NE(message([&] { p.map("orbit").whole("distance", 0, 0, 1); }).find(":6:25: 'distance' = 0.3 must be a whole number"),
+            std::string::npos) << message([&] { p.map("orbit").whole("distance", 0, 0, 1); });
   EXPECT_NE(message([&] { p.map("flat"); }).find("'flat' must be a map of keys"), std::string::npos);
 }
 
