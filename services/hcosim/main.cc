@@ -57,7 +57,7 @@ int domain_of(const Args& a) {
   const double d = a.number("--domain", env && *env ? std::atof(env) : 0.0);
   if (d != std::floor(d) || d < 0 || d > rt::kMaxDomain)
     throw std::invalid_argument("--domain must be a whole number in 0.." + std::to_string(rt::kMaxDomain));
-  return int(d);
+  return static_cast<int>(d);
 }
 
 rt::Security security_of(const Args& a) {
