@@ -122,10 +122,10 @@ std::vector<Row> soak_rows(const Context& c) {
     waitpid(up, &st, 0);
     return st;
   };
-  // Wait for every service to join before the first window.
-  const std::int64_t join_deadline = rt::mono_ns() + std::int64_t(60e9);
-  while (tail(log).find("every service joined") == std::string::npos) {
-    if (rt::mono_ns() > join_deadline || waitpid(up, nullptr, WNOHANG) == up) {
+  // Wait for every service's loop to run (models built) before the first window.
+  const std::int64_t start_deadline = rt::mono_ns() + std::int64_t(60e9);
+  while (tail(log).find("every service running") == std::string::npos) {
+    if (rt::mono_ns() > start_deadline || waitpid(up, nullptr, WNOHANG) == up) {
       stop();
       throw std::runtime_error("soak: the deployment did not start:\n" + tail(log));
     }

@@ -39,7 +39,8 @@ constexpr double kStopGraceS = 2.0;
 // above those Fast DDS gives the first participants of a host (0, 1, ...),
 // taken in turn and again from the start when used up.
 constexpr int kRestartIds = 60;
-constexpr double kJoinWaitS = 10.0;  // s before up names the services that have not joined
+constexpr double kJoinWaitS = 10.0;   // s before up names the services that have not joined
+constexpr double kStartWaitS = 120.0; // s the duration waits for every service's loop to run
 
 struct Child {
   std::string name;
@@ -168,7 +169,7 @@ bool stop_all(std::vector<Child>& children) {
 // The run's progress from every service's ServiceStatus, as one line:
 // simulated time, real-time factor, and each service's achieved rate and
 // overruns. On a terminal the line is rewritten in place; in a log, a new
-// line every kLogProgressS.
+// line every kLogProgressS. Also which services have left "starting".
 class Progress {
  public:
   explicit Progress(rt::Participant& p)
@@ -184,6 +185,7 @@ class Progress {
         sim_ns_ = s.stamp().sim_time_ns();
       }
       last = s;
+      if (s.state().to_string() != "starting") ran_.insert(s.service().to_string());
     });
     const std::int64_t now = rt::mono_ns();
     if (now - printed_ns_ < (tty_ ? 500'000'000 : std::int64_t(kLogProgressS * 1e9)) || sim_ns_ == 0) return;
@@ -196,6 +198,8 @@ class Progress {
     std::fflush(stdout);
     shown_ = true;
   }
+  // Whether `name` has reported that its loop runs (or has run).
+  bool running(const std::string& name) const { return ran_.count(name) > 0; }
   // Ends the in-place line before other output.
   void finish() {
     if (tty_ && shown_) std::printf("\n");
@@ -212,6 +216,7 @@ class Progress {
   }
   rt::Reader<ServiceStatus> status_;
   std::map<std::string, ServiceStatus> latest_;
+  std::set<std::string> ran_;
   std::int64_t sim_ns_ = 0, printed_ns_ = 0;  // the furthest service's simulated time
   double factor_ = 0;                          // simulated over wall time between its last two reports
   bool tty_, shown_ = false;
@@ -345,8 +350,9 @@ int up(const std::vector<std::string>& argv) {
   // is the normal end) unless its on_failure policy says otherwise; so do
   // the duration and Ctrl-C.
   const std::int64_t start = rt::mono_ns();
-  // A real-time run's duration counts from when every service has joined
-  // (or up stopped waiting for them); lockstep runs end with the clock.
+  // A real-time run's duration counts from when every service runs its
+  // loop (one may first build its model for seconds), or from kStartWaitS
+  // if one never says so; lockstep runs end with the clock.
   const bool timed = d.mode == rt::Mode::kRealtime && d.duration_s > 0;
   std::int64_t end = INT64_MAX;
   std::string reason;
@@ -356,18 +362,17 @@ int up(const std::vector<std::string>& argv) {
   pid_t cleaner = -1;    // a running shm_clean, or -1
   int next_id = 0;       // restarts so far, for participant ids
   // Say when every service's participant has been discovered, or after
-  // kJoinWaitS which have not.
-  bool all_joined = false, join_warned = false;
+  // kJoinWaitS which have not; then when every service runs, or which
+  // still start.
+  bool all_joined = false, join_warned = false, all_running = false, start_warned = false;
   while (reason.empty()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(recorder ? 2 : 20));
     progress->update();
+    const double waited = (rt::mono_ns() - start) * 1e-9;
     if (!all_joined) {
       std::string missing;
       for (const auto& c : children)
         if (!joined.has(c.name)) missing += (missing.empty() ? "" : ", ") + c.name;
-      const double waited = (rt::mono_ns() - start) * 1e-9;
-      if (timed && end == INT64_MAX && (missing.empty() || waited > kJoinWaitS))
-        end = rt::mono_ns() + std::int64_t(d.duration_s * 1e9);
       if (missing.empty()) {
         all_joined = true;
         progress->finish();
@@ -377,6 +382,27 @@ int up(const std::vector<std::string>& argv) {
         join_warned = true;
         progress->finish();
         std::printf("hcosim up: after %.0f s still no status from: %s\n", kJoinWaitS, missing.c_str());
+        std::fflush(stdout);
+      }
+    }
+    if (!all_running) {
+      std::string starting;
+      for (const auto& c : children)
+        if (!progress->running(c.name)) starting += (starting.empty() ? "" : ", ") + c.name;
+      if (starting.empty() || waited > kStartWaitS) {
+        all_running = true;
+        if (timed) end = rt::mono_ns() + std::int64_t(d.duration_s * 1e9);
+        progress->finish();
+        if (starting.empty())
+          std::printf("hcosim up: every service running after %.2f s\n", waited);
+        else
+          std::printf("hcosim up: after %.0f s still starting: %s; the run goes on without waiting\n", kStartWaitS,
+                      starting.c_str());
+        std::fflush(stdout);
+      } else if (!start_warned && all_joined && waited > kJoinWaitS) {
+        start_warned = true;
+        progress->finish();
+        std::printf("hcosim up: still starting after %.0f s: %s\n", kJoinWaitS, starting.c_str());
         std::fflush(stdout);
       }
     }

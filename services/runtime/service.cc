@@ -115,7 +115,7 @@ Service::Service(Options options)
       params_(params_of(deployment_, options_.name)),
       status_(participant_) {
   install_stop_handlers();
-  heartbeat(0, 0);
+  heartbeat(0, 0, Phase::kStarting);
 }
 
 StepStamp Service::stamp(const Tick& tick) const {
@@ -133,10 +133,10 @@ void Service::record_step(double jitter_us, double step_us, bool overrun) {
   step_us_.add(step_us);
 }
 
-void Service::heartbeat(std::int64_t sim_time_ns, std::uint64_t step, bool stopping) {
+void Service::heartbeat(std::int64_t sim_time_ns, std::uint64_t step, Phase phase) {
   const std::int64_t now = mono_ns();
   const std::int64_t since = now - last_heartbeat_ns_;
-  if (!stopping && last_heartbeat_ns_ != 0 && since < kHeartbeatNs) return;
+  if (phase == phase_ && last_heartbeat_ns_ != 0 && since < kHeartbeatNs) return;
 
   ServiceStatus s;
   s.service(options_.name);
@@ -145,7 +145,7 @@ void Service::heartbeat(std::int64_t sim_time_ns, std::uint64_t step, bool stopp
   s.stamp().wall_time_ns(wall_ns());
   s.pid(static_cast<std::uint32_t>(getpid()));
   s.mode(to_string(options_.mode));
-  s.state(stopping ? "stopping" : "running");
+  s.state(phase == Phase::kStarting ? "starting" : phase == Phase::kRunning ? "running" : "stopping");
   s.rate_target_hz(options_.rate_hz);
   s.rate_achieved_hz(since > 0 ? double(steps_ - steps_at_heartbeat_) * 1e9 / double(since) : 0.0);
   s.jitter_p50_us(jitter_us_.percentile(0.5));
@@ -162,11 +162,12 @@ void Service::heartbeat(std::int64_t sim_time_ns, std::uint64_t step, bool stopp
   step_us_.clear();
   steps_at_heartbeat_ = steps_;
   last_heartbeat_ns_ = now;
+  phase_ = phase;
 }
 
 int Service::run(const std::function<void(const Tick&)>& step) {
   const int code = options_.mode == Mode::kLockstep ? run_lockstep(step) : run_realtime(step);
-  heartbeat(std::int64_t(steps_ * period_steps_ * options_.step_s * 1e9), steps_ * period_steps_, true);
+  heartbeat(std::int64_t(steps_ * period_steps_ * options_.step_s * 1e9), steps_ * period_steps_, Phase::kStopping);
   return code;
 }
 

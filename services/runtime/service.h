@@ -84,10 +84,15 @@ class Service {
   // master's last tick.
   void finish() { finished_ = true; }
 
+  // ServiceStatus.state: "starting" from the constructor until the loop
+  // runs (a service may build its model for seconds in between), then
+  // "running", and "stopping" in the last report.
+  enum class Phase { kStarting, kRunning, kStopping };
+
   // For services that drive their own loop (the lockstep master): record
-  // one step; publish status if a period has passed (or when stopping).
+  // one step; publish status if a period has passed or the phase changed.
   void record_step(double jitter_us, double step_us, bool overrun);
-  void heartbeat(std::int64_t sim_time_ns, std::uint64_t step, bool stopping = false);
+  void heartbeat(std::int64_t sim_time_ns, std::uint64_t step, Phase phase = Phase::kRunning);
 
   const Options& options() const { return options_; }
   Participant& participant() { return participant_; }
@@ -107,6 +112,7 @@ class Service {
   std::uint64_t steps_ = 0, overruns_ = 0, outputs_skipped_ = 0;
   std::uint64_t steps_at_heartbeat_ = 0;
   std::int64_t last_heartbeat_ns_ = 0;  // 0 until the first heartbeat
+  Phase phase_ = Phase::kStarting;      // of the last heartbeat
   bool finished_ = false;
 };
 

@@ -34,7 +34,7 @@ HCOSIM_TOPIC(RigidBodyState, "RigidBodyState", "state");
 HCOSIM_TOPIC(RigidDivergence, "RigidDivergence", "state");
 HCOSIM_TOPIC(DeformedMesh, "DeformedMesh", "state");
 HCOSIM_TOPIC(MeshTopology, "DeformedMeshTopology", "latched");
-HCOSIM_TOPIC(ServiceStatus, "ServiceStatus", "state");
+HCOSIM_TOPIC(ServiceStatus, "ServiceStatus", "status");
 HCOSIM_TOPIC(ClockTick, "ClockTick", "sequence");
 HCOSIM_TOPIC(StepDone, "StepDone", "sequence");
 

@@ -8,10 +8,14 @@
 //            nan_every N makes every Nth answer's force NaN.
 //   camera : publishes 640x480 bgr8 CameraFrames (921,600 bytes of pixels).
 //   mesh   : publishes a DeformedMesh of `vertices` vertices and its topology.
-// fail_after S makes any role exit with status 3 after S seconds.
+// fail_after S makes any role exit with status 3 after S seconds;
+// start_delay S makes it wait S seconds before its loop, as a service
+// building its model does.
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <thread>
 
 #include "service.h"
 
@@ -124,8 +128,9 @@ struct Probe {
 int run(Options o) {
   Service svc(o);
   const Params& p = svc.params();
-  p.allow_only({"role", "nan_every", "fail_after", "vertices", "stiffness", "profile"});
+  p.allow_only({"role", "nan_every", "fail_after", "vertices", "stiffness", "profile", "start_delay"});
   const std::string role = p.text("role", "source", {"source", "wall", "camera", "mesh"});
+  std::this_thread::sleep_for(std::chrono::duration<double>(p.number("start_delay", 0, 0, 60)));
   Probe probe{svc, o.name, p.number("nan_every", 0, 0, 1e6), p.number("fail_after", 0, 0, 1e6),
               p.number("stiffness", 500, 0, 1e5), std::uint32_t(p.number("vertices", 1000, 3, 1e6))};
   const int code = role == "source" ? probe.source(p.text("profile", "control", {"control", "state"}))

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <thread>
@@ -131,6 +132,23 @@ TEST(Service, RejectedSamplesAreCountedNotDelivered) {
   ASSERT_TRUE(reader.wait(std::chrono::seconds(5)));
   admitted += reader.take([](const HapticState&) {});
   EXPECT_EQ(admitted, 1u);
+}
+
+// A reader that joins after the constructor still learns at once that the
+// service is starting (the status topic keeps its last reports for late
+// joiners); the loop's first step says running, its end stopping.
+TEST(Service, StatusSaysStartingThenRunningThenStopping) {
+  Service svc(options(100, 0.3));
+  Reader<ServiceStatus> status(svc.participant());
+  std::vector<std::string> states;
+  auto collect = [&] { status.take([&](const ServiceStatus& s) { states.push_back(s.state().to_string()); }); };
+  ASSERT_TRUE(status.wait(std::chrono::seconds(5)));
+  collect();
+  ASSERT_EQ(states, std::vector<std::string>{"starting"});
+  EXPECT_EQ(svc.run([&](const Tick&) { collect(); }), 0);
+  while (states.back() != "stopping" && status.wait(std::chrono::seconds(5))) collect();
+  EXPECT_NE(std::find(states.begin(), states.end(), "running"), states.end());
+  EXPECT_EQ(states.back(), "stopping");
 }
 
 // A lockstep step sees only samples stamped before it, in step order,

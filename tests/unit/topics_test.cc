@@ -34,6 +34,7 @@ TEST(Topics, ProfilesFollowTheContract) {
   EXPECT_STREQ(TopicOf<ForceFeedback>::qos, "control");
   EXPECT_STREQ(TopicOf<DeformedMesh>::qos, "state");
   EXPECT_STREQ(TopicOf<MeshTopology>::qos, "latched");
+  EXPECT_STREQ(TopicOf<ServiceStatus>::qos, "status");
   EXPECT_STREQ(TopicOf<ClockTick>::qos, "sequence");
 }
 

@@ -1,0 +1,27 @@
+# A service that builds its model before its loop runs (here: waits 11 s)
+# reports "starting" until then; up says so after 10 s, and a real-time
+# duration counts from when every service runs, so it gets its whole 2 s.
+source "$(dirname "$0")/lib.sh"
+deployment slow.yaml <<'YAML'
+mode: realtime
+duration: 2
+services:
+  - {name: slow, kind: test_probe, rate: 100, params: {role: source, start_delay: 11}}
+  - {name: quick, kind: test_probe, rate: 100, params: {role: wall}}
+YAML
+timeout 60 "$BIN/hcosim" up "$WORK/slow.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1
+code=$?
+[ $code -eq 0 ] || fail "up exited $code"
+grep -q "every service joined domain $DOMAIN" "$WORK/up.log" || fail "no join line"
+grep -q "still starting after 10 s: slow$" "$WORK/up.log" || fail "up did not name the service still starting"
+after=$(sed -nE 's/^hcosim up: every service running after ([0-9.]+) s$/\1/p' "$WORK/up.log")
+[ -n "$after" ] || fail "no 'every service running' line"
+awk -v t="$after" 'BEGIN { exit !(t >= 11 && t < 20) }' || fail "every service running after $after s, expected 11 to 20"
+total=$(sed -nE 's/^hcosim up: duration reached after ([0-9.]+) s$/\1/p' "$WORK/up.log")
+awk -v t="$total" -v a="$after" 'BEGIN { exit !(t >= a + 2 && t < a + 3) }' ||
+  fail "the run ended after $total s; expected the 2 s duration from $after s"
+# 2 s at 100 Hz is 200 steps; half that allows for a loaded machine.
+steps=$(sed -nE 's/^probe slow: role source, steps ([0-9]+),.*/\1/p' "$WORK/out/logs/slow.log")
+[ -n "$steps" ] && [ "$steps" -ge 100 ] || fail "slow ran ${steps:-no} steps, expected about 200"
+grep -q "slow .*exit status 0" "$WORK/up.log" || fail "slow did not end cleanly: $(cat "$WORK/up.log")"
+echo "startup_test: ok (running after $after s, ended after $total s, slow $steps steps)"
