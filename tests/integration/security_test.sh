@@ -44,7 +44,10 @@ echo "$err" | grep -q "hcosim security init" || fail "the error does not say how
 
 # The secure run, and four participants beside it.
 start up "$BIN/hcosim" up secure.yaml --out out
-sleep 1
+# The readers' timeouts count from when the cube's loop runs: building its
+# visual map takes seconds (about 10 under AddressSanitizer).
+for i in $(seq 900); do grep -q "every service running" up.log && break; sleep 0.1; done
+grep -q "every service running" up.log || fail "the secure deployment did not start in 90 s: $(cat up.log)"
 start authorized "$BIN/hcosim" echo DeformedMesh --count 2 --timeout 10 --security keys --identity viewer
 start anonymous "$BIN/hcosim" echo DeformedMesh --count 1 --timeout 8
 start foreign "$BIN/hcosim" echo DeformedMesh --count 1 --timeout 8 --security other
