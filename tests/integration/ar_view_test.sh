@@ -22,7 +22,7 @@ timeout 60 "$BIN/hcosim" up "$WORK/ar.yaml" --out "$WORK/out" >"$WORK/up.log" 2>
 view=$WORK/out/logs/view.log
 read -r drawn skipped < <(sed -nE 's/^view: ([0-9]+) frames drawn, ([0-9]+) skipped \(late, or never sent\).*/\1 \2/p' "$view")
 [ -n "$drawn" ] || fail "the view printed no summary"
-# 3 s counted from when every service joined; the view may start a little earlier.
+# 3 s counted from when every service runs; the view may start a little earlier.
 [ "$drawn" -ge 15 ] && [ "$drawn" -le 45 ] || fail "drew $drawn frames at 10 Hz in 3 s"
 [ "$skipped" -ge "$drawn" ] || fail "skipped only $skipped of a camera three times faster than the view ($drawn drawn)"
 written=$(sed -nE 's/^view: video .*, ([0-9]+) frames$/\1/p' "$view")

@@ -32,10 +32,10 @@ services:
 YAML
 
 start up "$BIN/hcosim" up faults.yaml --out out --record run.rec
-for i in $(seq 200); do grep -q "every service joined" up.log && break; sleep 0.1; done
-grep -q "every service joined" up.log || fail "the services did not join: $(cat up.log)"
-# Joined is not ready: the deformable service builds its hybrid map first.
-sleep 5
+for i in $(seq 600); do grep -q "every service running" up.log && break; sleep 0.1; done
+grep -q "every service running" up.log || fail "the services did not start in 60 s: $(cat up.log)"
+# Samples on every topic (and in the recording) before the first kill.
+sleep 2
 victims=(omni bodies objects cam view probe)
 declare -A killed_at
 for v in "${victims[@]}"; do

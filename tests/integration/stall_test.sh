@@ -27,7 +27,7 @@ YAML
 press_script 26
 start status "$BIN/hcosim" echo ServiceStatus --count 0 --timeout 40
 start up "$BIN/hcosim" up stall.yaml --out out
-for i in $(seq 100); do grep -q "every service joined" up.log && break; sleep 0.1; done
+for i in $(seq 600); do grep -q "every service running" up.log && break; sleep 0.1; done
 start haptic_reader "$BIN/hcosim" echo HapticState --count 0 --timeout 30
 start mesh_reader "$BIN/hcosim" echo DeformedMesh --count 0 --timeout 30
 start recorder "$BIN/hcosim" record all.rec --duration 30
