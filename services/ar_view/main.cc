@@ -104,7 +104,7 @@ int run(int argc, char** argv) {
   const int tag_id = p.whole("tag_id", 0, 0, 1000000);
   const std::string device = p.string("device", "omni");
   const std::vector<Item> items = items_of(p);
-  std::vector<double> snapshots = p.numbers("snapshots", 0, 1000000);
+  std::vector<double> snapshots = p.numbers("snapshots", 0, 1e6);
   std::sort(snapshots.begin(), snapshots.end());
   const bool plots = p.text("plots", "on", {"on", "off"}) == "on";
   const bool show_stylus = p.text("stylus", "on", {"on", "off"}) == "on";

@@ -49,7 +49,7 @@ vision::Orbit orbit_params(const Params& p) {
   o.swing = p.number("swing", o.swing, 0, 0.9 * o.distance);
   o.tilt_deg = p.number("tilt", o.tilt_deg, 0, 79);
   o.base_tilt_deg = p.number("base_tilt", o.base_tilt_deg, 0, 79 - o.tilt_deg);
-  o.period = p.number("period", o.period, 0.1, 1000000);
+  o.period = p.number("period", o.period, 0.1, 1e6);
   o.upright = p.text("upright", "off", {"on", "off"}) == "on";
   o.sweep_deg = p.number("sweep", o.sweep_deg, 0, 179);
   return o;
