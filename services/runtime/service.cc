@@ -147,7 +147,10 @@ void Service::heartbeat(std::int64_t sim_time_ns, std::uint64_t step, Phase phas
   s.mode(to_string(options_.mode));
   s.state(phase == Phase::kStarting ? "starting" : phase == Phase::kRunning ? "running" : "stopping");
   s.rate_target_hz(options_.rate_hz);
-  s.rate_achieved_hz(since > 0 ? double(steps_ - steps_at_heartbeat_) * 1e9 / double(since) : 0.0);
+  // The first report of the loop follows the start-up report by one step
+  // (or by the model's build): no period to measure a rate over yet.
+  const bool measured = phase_ != Phase::kStarting && since > 0;
+  s.rate_achieved_hz(measured ? double(steps_ - steps_at_heartbeat_) * 1e9 / double(since) : 0.0);
   s.jitter_p50_us(jitter_us_.percentile(0.5));
   s.jitter_p99_us(jitter_us_.percentile(0.99));
   s.step_p99_us(step_us_.percentile(0.99));

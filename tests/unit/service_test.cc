@@ -141,14 +141,22 @@ TEST(Service, StatusSaysStartingThenRunningThenStopping) {
   Service svc(options(100, 0.3));
   Reader<ServiceStatus> status(svc.participant());
   std::vector<std::string> states;
-  auto collect = [&] { status.take([&](const ServiceStatus& s) { states.push_back(s.state().to_string()); }); };
+  std::vector<double> rates;
+  auto collect = [&] {
+    status.take([&](const ServiceStatus& s) { states.push_back(s.state().to_string()), rates.push_back(s.rate_achieved_hz()); });
+  };
   ASSERT_TRUE(status.wait(std::chrono::seconds(5)));
   collect();
   ASSERT_EQ(states, std::vector<std::string>{"starting"});
   EXPECT_EQ(svc.run([&](const Tick&) { collect(); }), 0);
   while (states.back() != "stopping" && status.wait(std::chrono::seconds(5))) collect();
-  EXPECT_NE(std::find(states.begin(), states.end(), "running"), states.end());
+  const auto running = std::find(states.begin(), states.end(), "running");
+  ASSERT_NE(running, states.end());
   EXPECT_EQ(states.back(), "stopping");
+  // One step after the start-up report is no period: no rate yet (1 step in
+  // a few ms would read as hundreds of Hz); the last report has one.
+  EXPECT_EQ(rates[running - states.begin()], 0.0);
+  EXPECT_GT(rates.back(), 0.0);
 }
 
 // A lockstep step sees only samples stamped before it, in step order,
