@@ -18,7 +18,7 @@ services:
   - {name: bodies, kind: rigid, rate: 200}
   - {name: view, kind: ar_view, rate: 10, params: {camera: cam, plots: off, fps: 30}}
 YAML
-timeout 60 "$BIN/hcosim" up "$WORK/ar.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1 || fail "up exited $?"
+limit 60 "$BIN/hcosim" up "$WORK/ar.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1 || fail "up exited $?"
 view=$WORK/out/logs/view.log
 read -r drawn skipped < <(sed -nE 's/^view: ([0-9]+) frames drawn, ([0-9]+) skipped \(late, or never sent\).*/\1 \2/p' "$view")
 [ -n "$drawn" ] || fail "the view printed no summary"
@@ -45,7 +45,7 @@ services:
   - {name: cam, kind: tracker, rate: 20}
   - {name: view, kind: ar_view, rate: 20, params: {camera: cam, plots: off, video: ""}}
 YAML
-timeout 60 "$BIN/hcosim" up "$WORK/loop.yaml" --out "$WORK/loop" >"$WORK/up_loop.log" 2>&1 || fail "loop run: up exited $?"
+limit 60 "$BIN/hcosim" up "$WORK/loop.yaml" --out "$WORK/loop" >"$WORK/up_loop.log" 2>&1 || fail "loop run: up exited $?"
 looped=$(sed -nE 's/^view: ([0-9]+) frames drawn.*/\1/p' "$WORK/loop/logs/view.log")
 [ "${looped:-0}" -ge 20 ] || fail "drew ${looped:-no} frames of a looping 5-frame folder in 2 s at 20 Hz"
 

@@ -4,7 +4,7 @@
 # of the pixels apart), so the speed ratio compares the same work. Speed
 # is reported, not asserted.
 source "$(dirname "$0")/lib.sh"
-timeout 100 "$BIN/hcosim" bench arview --quick --out "$WORK/b" >"$WORK/bench.log" 2>&1 ||
+limit 100 "$BIN/hcosim" bench arview --quick --out "$WORK/b" >"$WORK/bench.log" 2>&1 ||
   fail "bench exited $?: $(tail -5 "$WORK/bench.log")"
 f="$WORK/b/arview.json"
 [ -s "$f" ] || fail "no $f"

@@ -2,7 +2,7 @@
 # force peer in another process, the bare Fast DDS baseline from the same
 # run, and a wall row per delay and stiffness, every one stable.
 source "$(dirname "$0")/lib.sh"
-timeout 100 "$BIN/hcosim" bench haptic --quick --domain "$DOMAIN" --out "$WORK/b" >"$WORK/bench.log" 2>&1 ||
+limit 100 "$BIN/hcosim" bench haptic --quick --domain "$DOMAIN" --out "$WORK/b" >"$WORK/bench.log" 2>&1 ||
   fail "bench exited $?: $(tail -5 "$WORK/bench.log")"
 f="$WORK/b/haptic.json"
 [ -s "$f" ] || fail "no $f"

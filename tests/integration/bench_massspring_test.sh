@@ -2,7 +2,7 @@
 # error, adaptive rows, MuJoCo on the same lattice with the speed-up at
 # equal error, and one Pareto PNG per lattice.
 source "$(dirname "$0")/lib.sh"
-timeout 100 "$BIN/hcosim" bench massspring --quick --out "$WORK/b" >"$WORK/bench.log" 2>&1 ||
+limit 100 "$BIN/hcosim" bench massspring --quick --out "$WORK/b" >"$WORK/bench.log" 2>&1 ||
   fail "bench exited $?: $(tail -5 "$WORK/bench.log")"
 f="$WORK/b/massspring.json"
 [ -s "$f" ] || fail "no $f"

@@ -6,7 +6,7 @@
 # three goals from it and shows both plots; no process is left behind.
 # The goals' verdicts are reported, not asserted.
 source "$(dirname "$0")/lib.sh"
-timeout 240 "$BIN/hcosim" bench soak --quick --domain "$DOMAIN" --out "$WORK/b" >"$WORK/bench.log" 2>&1 ||
+limit 240 "$BIN/hcosim" bench soak --quick --domain "$DOMAIN" --out "$WORK/b" >"$WORK/bench.log" 2>&1 ||
   fail "bench exited $?: $(tail -5 "$WORK/bench.log")"
 f="$WORK/b/soak.json"
 [ -s "$f" ] || fail "no $f"

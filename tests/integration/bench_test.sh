@@ -4,7 +4,7 @@
 # the same rows, plots and the machine; `bench report` draws the same
 # report again from the JSON file.
 source "$(dirname "$0")/lib.sh"
-timeout 300 "$BIN/hcosim" bench dds --quick --domain "$DOMAIN" --out "$WORK/b" >"$WORK/bench.log" 2>&1 ||
+limit 300 "$BIN/hcosim" bench dds --quick --domain "$DOMAIN" --out "$WORK/b" >"$WORK/bench.log" 2>&1 ||
   fail "bench exited $?: $(tail -5 "$WORK/bench.log")"
 grep -q "bench: \[1/1\] dds: " "$WORK/bench.log" || fail "no progress line: $(head -3 "$WORK/bench.log")"
 f="$WORK/b/dds.json"

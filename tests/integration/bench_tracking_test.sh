@@ -4,7 +4,7 @@
 # beats plain libapriltag and ArUco on rotation, and every row of the
 # three conditions carries its metrics. Speed is reported, not asserted.
 source "$(dirname "$0")/lib.sh"
-timeout 100 "$BIN/hcosim" bench tracking --quick --out "$WORK/b" >"$WORK/bench.log" 2>&1 ||
+limit 100 "$BIN/hcosim" bench tracking --quick --out "$WORK/b" >"$WORK/bench.log" 2>&1 ||
   fail "bench exited $?: $(tail -5 "$WORK/bench.log")"
 f="$WORK/b/tracking.json"
 [ -s "$f" ] || fail "no $f"

@@ -6,7 +6,7 @@
 # camera's truth stays within 3 px at the scene's far corners (p95).
 source "$(dirname "$0")/lib.sh"
 from_deploy default.yaml
-timeout 120 "$BIN/hcosim" up "$WORK/default.yaml" --duration 5 --out "$WORK/out" >"$WORK/up.log" 2>&1 ||
+limit 120 "$BIN/hcosim" up "$WORK/default.yaml" --duration 5 --out "$WORK/out" >"$WORK/up.log" 2>&1 ||
   fail "up exited $?"
 grep -q "lockstep run complete" "$WORK/up.log" || fail "the lockstep run did not complete"
 [ "$(grep -c "exit status 0" "$WORK/up.log")" -eq "$(grep -c "started " "$WORK/up.log")" ] || fail "a service failed"

@@ -31,7 +31,7 @@ start mesh "$BIN/hcosim" echo DeformedMesh --count 20 --timeout 12
 start status "$BIN/hcosim" echo ServiceStatus --count 0 --timeout 12
 (sleep 4 && exec "$BIN/hcosim" echo DeformedMeshTopology --count 2 --timeout 7 >"$WORK/late.log" 2>&1) &
 PIDS+=($!)
-timeout 40 "$BIN/hcosim" up "$WORK/up.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1 || fail "up exited $?"
+limit 40 "$BIN/hcosim" up "$WORK/up.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1 || fail "up exited $?"
 wait "${PIDS[0]}" || fail "fewer than 20 meshes reached the subscriber"
 wait "${PIDS[2]}" || fail "the late subscriber did not receive both topologies"
 log="$WORK/out/logs/objs.log"

@@ -7,7 +7,7 @@
 source "$(dirname "$0")/lib.sh"
 from_deploy press.yaml
 for run in 1 2; do
-  timeout 90 "$BIN/hcosim" up "$WORK/press.yaml" --mode lockstep --duration 2 --record "$WORK/run$run.rec" \
+  limit 90 "$BIN/hcosim" up "$WORK/press.yaml" --mode lockstep --duration 2 --record "$WORK/run$run.rec" \
     --out "$WORK/out$run" >"$WORK/up$run.log" 2>&1 || fail "run $run: up exited $?"
   grep -q "lockstep run complete" "$WORK/up$run.log" || fail "run $run did not complete"
   for topic in DeformedMesh ForceFeedback HapticState; do

@@ -19,7 +19,7 @@ start status "$BIN/hcosim" echo ServiceStatus --count 0 --timeout 8
 # 400 answers span a second of the source's 1 Hz stroke: its contact half included,
 # however early echo joins (200 from the start ended just before contact).
 start force "$BIN/hcosim" echo ForceFeedback --count 400 --timeout 8
-timeout 30 "$BIN/hcosim" up "$WORK/up.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1 || fail "up exited $?"
+limit 30 "$BIN/hcosim" up "$WORK/up.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1 || fail "up exited $?"
 grep -q "duration reached" "$WORK/up.log" || fail "up did not run to its duration"
 grep -qE "^hcosim up: every service joined domain $DOMAIN in [0-9.]+ s$" "$WORK/up.log" ||
   fail "up did not report the services joining: $(cat "$WORK/up.log")"

@@ -12,7 +12,7 @@ services:
     rate: 100
     params: {role: wall, fail_after: 1}
 YAML
-timeout 30 "$BIN/hcosim" up "$WORK/fail.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1
+limit 30 "$BIN/hcosim" up "$WORK/fail.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1
 code=$?
 [ $code -eq 1 ] || fail "up exited $code, expected 1"
 grep -q "service 'flaky' ended (exit status 3)" "$WORK/up.log" || fail "failure not named"

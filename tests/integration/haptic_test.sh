@@ -26,7 +26,7 @@ YAML
 start state "$BIN/hcosim" echo HapticState --count 0 --timeout 6
 start status "$BIN/hcosim" echo ServiceStatus --count 0 --timeout 6
 start record "$BIN/hcosim" record --device omni --duration 6 --out "$WORK/omni.csv"
-timeout 30 "$BIN/hcosim" up "$WORK/up.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1 || fail "up exited $?"
+limit 30 "$BIN/hcosim" up "$WORK/up.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1 || fail "up exited $?"
 wait "${PIDS[0]}"
 summary=$(grep "omni:.*ticks" "$WORK/out/logs/omni.log") || fail "no summary from the haptic service"
 answered=$(echo "$summary" | sed -nE 's/.* ([0-9]+) answered.*/\1/p')
@@ -64,7 +64,7 @@ services:
     params: {device: replay, replay: omni.csv}
 YAML
 start replayed "$BIN/hcosim" echo HapticState --count 0 --timeout 4
-timeout 30 "$BIN/hcosim" up "$WORK/replay.yaml" --out "$WORK/out2" >"$WORK/up2.log" 2>&1 || fail "replay up exited $?"
+limit 30 "$BIN/hcosim" up "$WORK/replay.yaml" --out "$WORK/out2" >"$WORK/up2.log" 2>&1 || fail "replay up exited $?"
 wait "${PIDS[3]}"
 deepest() { sort -g | head -n 1; }
 rec=$(tail -n +2 "$WORK/omni.csv" | cut -d, -f4 | deepest)

@@ -24,6 +24,15 @@ fail() {
   exit 1
 }
 
+# limit SECONDS COMMAND...: runs a command, killed after SECONDS, scaled by
+# the build's slowdown (3 under sanitizers, tests/CMakeLists.txt)
+SLOWDOWN=${HCOSIM_TEST_SLOWDOWN:-1}
+limit() {
+  local s=$1
+  shift
+  timeout $((s * SLOWDOWN)) "$@"
+}
+
 # start NAME COMMAND...: runs a command in the background, output to $WORK/NAME.log
 start() {
   local name=$1

@@ -16,7 +16,7 @@ services:
     params: {role: wall}
 YAML
 for run in 1 2; do
-  timeout 60 "$BIN/hcosim" up "$WORK/lockstep.yaml" --out "$WORK/out" >"$WORK/up$run.log" 2>&1 || fail "up exited $?"
+  limit 60 "$BIN/hcosim" up "$WORK/lockstep.yaml" --out "$WORK/out" >"$WORK/up$run.log" 2>&1 || fail "up exited $?"
   grep -q "lockstep run complete" "$WORK/up$run.log" || fail "lockstep did not complete"
   grep -q "probe fast: role source, steps 500," "$WORK/out/logs/fast.log" || fail "fast did not take exactly 500 steps"
   grep -q "probe slow: role wall, steps 125," "$WORK/out/logs/slow.log" || fail "slow did not take exactly 125 steps"

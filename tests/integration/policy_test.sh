@@ -48,7 +48,7 @@ grep -qE "flaky +exit status 0, 3 restarts" "$WORK/restart.log" ||
 
 # Restarts run out: fail_after 0.5 in 6 s fails more than 3 times.
 sed -i 's/fail_after: 2}/fail_after: 0.5}/' "$WORK/restart.yaml"
-timeout 30 "$BIN/hcosim" up "$WORK/restart.yaml" --out "$WORK/r2" >"$WORK/restart2.log" 2>&1
+limit 30 "$BIN/hcosim" up "$WORK/restart.yaml" --out "$WORK/r2" >"$WORK/restart2.log" 2>&1
 code=$?
 [ $code -eq 1 ] || fail "up whose restarts ran out exited $code"
 grep -q "service 'flaky' ended (exit status 3) after 3 restarts" "$WORK/restart2.log" ||
@@ -56,7 +56,7 @@ grep -q "service 'flaky' ended (exit status 3) after 3 restarts" "$WORK/restart2
 
 # The same deployment (flaky failing after 0.5 s), flaky ignored.
 sed 's/duration: 6/duration: 3/; s/on_failure: restart/on_failure: ignore/' "$WORK/restart.yaml" >"$WORK/ignore.yaml"
-timeout 30 "$BIN/hcosim" up "$WORK/ignore.yaml" --out "$WORK/i" >"$WORK/ignore.log" 2>&1
+limit 30 "$BIN/hcosim" up "$WORK/ignore.yaml" --out "$WORK/i" >"$WORK/ignore.log" 2>&1
 code=$?
 [ $code -eq 1 ] || fail "up with an ignored failure exited $code, expected 1"
 grep -q "service 'flaky' ended (exit status 3); on_failure: ignore, the others run on" "$WORK/ignore.log" ||

@@ -5,7 +5,7 @@
 # topics, files that are not recordings and cut-short recordings are named.
 source "$(dirname "$0")/lib.sh"
 from_deploy press.yaml
-timeout 60 "$BIN/hcosim" up "$WORK/press.yaml" --duration 0.5 --record "$WORK/run.rec" --out "$WORK/out" \
+limit 60 "$BIN/hcosim" up "$WORK/press.yaml" --duration 0.5 --record "$WORK/run.rec" --out "$WORK/out" \
   >"$WORK/up.log" 2>&1 || fail "up exited $?"
 grep -qE "recorded [0-9]+ samples to $WORK/run.rec" "$WORK/up.log" || fail "up did not say what it recorded"
 
@@ -35,7 +35,7 @@ services:
   - {name: wall, kind: test_probe, rate: 200, params: {role: wall}}
 YAML
 start rec "$BIN/hcosim" record "$WORK/probe.rec" --topics ForceFeedback,ServiceStatus --duration 4
-timeout 30 "$BIN/hcosim" up "$WORK/up.yaml" --out "$WORK/out2" >"$WORK/up2.log" 2>&1 || fail "up exited $?"
+limit 30 "$BIN/hcosim" up "$WORK/up.yaml" --out "$WORK/out2" >"$WORK/up2.log" 2>&1 || fail "up exited $?"
 wait "${PIDS[0]}" || fail "record exited $?: $(cat "$WORK/rec.log")"
 forces=$("$BIN/hcosim" export "$WORK/probe.rec" --topic ForceFeedback 2>/dev/null | wc -l)
 [ "$forces" -gt 300 ] || fail "only $forces ForceFeedback samples recorded"

@@ -4,7 +4,7 @@
 # does not hold, fails with a message.
 source "$(dirname "$0")/lib.sh"
 from_deploy press.yaml
-timeout 60 "$BIN/hcosim" up "$WORK/press.yaml" --record "$WORK/run.rec" --out "$WORK/out" >"$WORK/up.log" 2>&1 ||
+limit 60 "$BIN/hcosim" up "$WORK/press.yaml" --record "$WORK/run.rec" --out "$WORK/out" >"$WORK/up.log" 2>&1 ||
   fail "recording run: up exited $?"
 recorded=$("$BIN/hcosim" export "$WORK/run.rec" --topic ForceFeedback 2>/dev/null | grep -c '"in_contact":true')
 [ "$recorded" -gt 100 ] || fail "the recorded run has only $recorded contact forces"
@@ -14,7 +14,7 @@ cube_alone alone.yaml 12
 start forces "$BIN/hcosim" echo ForceFeedback --count 0 --timeout 11
 start up "$BIN/hcosim" up "$WORK/alone.yaml" --out "$WORK/alone"
 # replay waits for the service's reader (it builds its model first).
-timeout 30 "$BIN/hcosim" replay "$WORK/run.rec" --topics HapticState >"$WORK/replay.log" 2>&1 ||
+limit 30 "$BIN/hcosim" replay "$WORK/run.rec" --topics HapticState >"$WORK/replay.log" 2>&1 ||
   fail "replay exited $?: $(cat "$WORK/replay.log")"
 grep -q "published 2000 samples" "$WORK/replay.log" || fail "replay did not publish the 2000 states: $(cat "$WORK/replay.log")"
 wait "${PIDS[0]}"

@@ -46,7 +46,7 @@ YAML
 start states "$BIN/hcosim" echo RigidBodyState --count 200 --timeout 10
 start divergence "$BIN/hcosim" echo RigidDivergence --count 200 --timeout 10
 start status "$BIN/hcosim" echo ServiceStatus --count 0 --timeout 10
-timeout 40 "$BIN/hcosim" up "$WORK/up.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1 || fail "up exited $?"
+limit 40 "$BIN/hcosim" up "$WORK/up.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1 || fail "up exited $?"
 wait "${PIDS[0]}" || fail "fewer than 200 body states reached the subscriber"
 wait "${PIDS[1]}" || fail "fewer than 200 divergences reached the subscriber"
 log="$WORK/out/logs/rigid.log"

@@ -21,7 +21,7 @@ services:
   - {name: sheets, kind: deformable, rate: 1000, objects: [sheet], params: {device: omni}}
   - {name: cam, kind: tracker, rate: 25}
 YAML
-timeout 60 "$BIN/hcosim" up "$WORK/scene.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1 || fail "up exited $?: $(cat "$WORK/up.log")"
+limit 60 "$BIN/hcosim" up "$WORK/scene.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1 || fail "up exited $?: $(cat "$WORK/up.log")"
 grep -q "not starting cam: the scene has no camera" "$WORK/up.log" || fail "the tracker was started: $(cat "$WORK/up.log")"
 grep -q "lockstep run complete" "$WORK/up.log" || fail "the run did not complete"
 grep -q "clock: 300 steps, .*, 3 followers" "$WORK/out/logs/clock.log" || fail "the clock: $(cat "$WORK/out/logs/clock.log")"
@@ -32,13 +32,13 @@ grep -q "^cube:" "$WORK/out/logs/sheets.log" && fail "the deformable service ser
 
 # Without the ball, no rigid service.
 grep -v "name: ball" "$WORK/scene.yaml" >"$WORK/noball.yaml"
-timeout 60 "$BIN/hcosim" up "$WORK/noball.yaml" --out "$WORK/out1" >"$WORK/up1.log" 2>&1 || fail "up exited $?"
+limit 60 "$BIN/hcosim" up "$WORK/noball.yaml" --out "$WORK/out1" >"$WORK/up1.log" 2>&1 || fail "up exited $?"
 grep -q "not starting bodies: the scene has no rigid object" "$WORK/up1.log" || fail "$(cat "$WORK/up1.log")"
 grep -q "clock: 300 steps, .*, 2 followers" "$WORK/out1/logs/clock.log" || fail "$(cat "$WORK/out1/logs/clock.log")"
 
 # With a camera the tracker runs, with the marker's tag.
 sed 's/^  marker:/  camera: {source: synthetic}\n  marker:/' "$WORK/scene.yaml" >"$WORK/camera.yaml"
-timeout 60 "$BIN/hcosim" up "$WORK/camera.yaml" --out "$WORK/out2" >"$WORK/up2.log" 2>&1 || fail "up exited $?"
+limit 60 "$BIN/hcosim" up "$WORK/camera.yaml" --out "$WORK/out2" >"$WORK/up2.log" 2>&1 || fail "up exited $?"
 grep -q "cam: synthetic camera: 640x480 at 25 Hz, tag36h11 id 3; tag36h11 tags of 0.04 m" "$WORK/out2/logs/cam.log" ||
   fail "the tracker did not take the scene's camera and marker: $(cat "$WORK/out2/logs/cam.log")"
 

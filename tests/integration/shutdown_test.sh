@@ -5,7 +5,7 @@ source "$(dirname "$0")/lib.sh"
 before=$(ls /dev/shm | sort)
 probe cam 30 camera
 pid=${PIDS[0]}
-out=$(timeout 20 "$BIN/hcosim" echo CameraFrame --count 3 --timeout 15) || fail "no CameraFrame: $out"
+out=$(limit 20 "$BIN/hcosim" echo CameraFrame --count 3 --timeout 15) || fail "no CameraFrame: $out"
 # 640x480 bgr8 frames are larger than Fast DDS's default 512 KiB segment.
 [ "$(echo "$out" | grep -c '"data_bytes":921600')" -eq 3 ] || fail "frames incomplete: $out"
 during=$(ls /dev/shm | sort)

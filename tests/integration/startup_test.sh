@@ -9,7 +9,7 @@ services:
   - {name: slow, kind: test_probe, rate: 100, params: {role: source, start_delay: 11}}
   - {name: quick, kind: test_probe, rate: 100, params: {role: wall}}
 YAML
-timeout 60 "$BIN/hcosim" up "$WORK/slow.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1
+limit 60 "$BIN/hcosim" up "$WORK/slow.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1
 code=$?
 [ $code -eq 0 ] || fail "up exited $code"
 grep -q "every service joined domain $DOMAIN" "$WORK/up.log" || fail "no join line"

@@ -22,7 +22,7 @@ services:
 YAML
 start poses "$BIN/hcosim" echo MarkerPose --count 60 --timeout 10
 start frames "$BIN/hcosim" echo CameraFrame --count 20 --timeout 10
-timeout 30 "$BIN/hcosim" up "$WORK/up.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1 || fail "up exited $?"
+limit 30 "$BIN/hcosim" up "$WORK/up.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1 || fail "up exited $?"
 wait "${PIDS[0]}" || fail "fewer than 60 marker poses reached the subscriber"
 wait "${PIDS[1]}" || fail "fewer than 20 camera frames reached the subscriber"
 grep -q '"camera":"cam","tag_id":5,"family":"tag36h11"' "$WORK/poses.log" || fail "no pose of tag 5 from cam"
@@ -39,7 +39,7 @@ grep -qE "^cam: [0-9]+ frames, .* 0 poses refused" "$WORK/out/logs/cam.log" || f
 
 # The shipped example, on this test's domain.
 sed "s/^domain: 0/domain: $DOMAIN/" "$(dirname "$0")/../../deploy/tracker.yaml" >"$WORK/example.yaml"
-timeout 30 "$BIN/hcosim" up "$WORK/example.yaml" --out "$WORK/example" >"$WORK/example.log" 2>&1 ||
+limit 30 "$BIN/hcosim" up "$WORK/example.yaml" --out "$WORK/example" >"$WORK/example.log" 2>&1 ||
   fail "deploy/tracker.yaml: up exited $?"
 grep -qE "^cam: [0-9]{2,} frames, .* 0 poses refused" "$WORK/example/logs/cam.log" ||
   fail "deploy/tracker.yaml tracked too few frames: $(cat "$WORK/example/logs/cam.log")"
@@ -54,7 +54,7 @@ services:
     rate: 50
     params: {source: folder, path: s/frames, camera: s/camera.yaml}
 YAML
-timeout 30 "$BIN/hcosim" up "$WORK/once.yaml" --out "$WORK/once" >"$WORK/once.log" 2>&1 || fail "up exited $?"
+limit 30 "$BIN/hcosim" up "$WORK/once.yaml" --out "$WORK/once" >"$WORK/once.log" 2>&1 || fail "up exited $?"
 grep -q "service 'files' finished" "$WORK/once.log" || fail "the run did not end with the frames: $(cat "$WORK/once.log")"
 grep -q "the source ended after 10 frames" "$WORK/once/logs/files.log" || fail "the end of the frames was not said"
 grep -q "10 frames, 10 with a tag, 10 detections" "$WORK/once/logs/files.log" || fail "not every frame was tracked"
@@ -69,7 +69,7 @@ services:
     rate: 25
     params: {source: synthetic, frames: off}
 YAML
-timeout 60 "$BIN/hcosim" up "$WORK/lock.yaml" --out "$WORK/lock" >"$WORK/lock.log" 2>&1 || fail "lockstep up exited $?"
+limit 60 "$BIN/hcosim" up "$WORK/lock.yaml" --out "$WORK/lock" >"$WORK/lock.log" 2>&1 || fail "lockstep up exited $?"
 grep -qE "^cam: 2[56] frames, 2[56] with a tag" "$WORK/lock/logs/cam.log" ||
   fail "lockstep did not give 25 frames: $(cat "$WORK/lock/logs/cam.log")"
 

@@ -8,7 +8,7 @@ source "$(dirname "$0")/../integration/lib.sh"
 READER=$4
 probe liver 30 mesh ", vertices: 5402"
 sleep 2  # the topology was written before the reader existed
-out=$(timeout 60 "$READER" "$DOMAIN" 5402 5 40 2>&1) || fail "cyclone reader: $out"
+out=$(limit 60 "$READER" "$DOMAIN" 5402 5 40 2>&1) || fail "cyclone reader: $out"
 echo "$out"
 echo "$out" | grep -q "topology of 'liver', version 1, 5402 vertices, 5400 triangles" || fail "topology: $out"
 
@@ -22,7 +22,7 @@ live=$!
 PIDS+=($live)
 start up "$BIN/hcosim" up "$WORK/cube.yaml" --out "$WORK/out"
 sleep 2
-out=$(timeout 30 "$READER" "$DOMAIN" 5402 10 20 model 2>&1) || fail "late cyclone reader: $out"
+out=$(limit 30 "$READER" "$DOMAIN" 5402 10 20 model 2>&1) || fail "late cyclone reader: $out"
 echo "late: $out"
 echo "$out" | grep -q "topology of 'cube', version 1, 5402 vertices" || fail "late topology: $out"
 wait $live || fail "live cyclone reader: $(cat "$WORK/live.log")"
