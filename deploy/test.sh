@@ -4,8 +4,9 @@
 # --sanitize (first): the same in build-asan/, under AddressSanitizer and
 # UndefinedBehaviorSanitizer; any finding fails its test. Left out there:
 # the benchmarks' frames and the real-time tests that assert a rate or a
-# count of samples in wall time (a sanitizer slows every process 2 to 3
-# times); the lockstep tests run the same services and still run.
+# count of samples in wall time (a sanitizer slows every process several
+# times); the lockstep tests run the same services and still run, with
+# their hang limits 3 times longer (tests/CMakeLists.txt).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 if [ "${1:-}" = "--sanitize" ]; then
