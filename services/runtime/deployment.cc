@@ -104,9 +104,11 @@ void add_scene(const std::string& file, const Scene& scene, ServiceSpec& s, cons
       const std::string name = o["name"].Scalar();
       if (!kind.empty() && o["kind"].Scalar() != kind) continue;
       if (!s.objects.empty() && std::find(s.objects.begin(), s.objects.end(), name) == s.objects.end()) continue;
+      // Keys are inserted as the file's nodes, so that a service's error
+      // about one (an unknown key) still names its line.
       YAML::Node copy(YAML::NodeType::Map);
       for (const auto& kv : o)
-        if (kv.first.Scalar() != "kind" || kind.empty()) copy[kv.first.Scalar()] = kv.second;
+        if (kv.first.Scalar() != "kind" || kind.empty()) copy.force_insert(kv.first, kv.second);
       list.push_back(copy);
     }
     return list;

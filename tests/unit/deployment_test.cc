@@ -178,5 +178,22 @@ TEST(Deployment, TheArViewGetsEveryObjectAndTheMarker) {
   EXPECT_EQ(no_camera.services[0].unneeded, "the scene has no camera");
 }
 
+TEST(Deployment, AServicesErrorAboutASceneObjectNamesItsLine) {
+  const std::string f = write_file("keys.yaml",
+                                   "scene:\n  objects:\n    - {name: box, kind: rigid, size: 0.01}\n"
+                                   "    - {name: ball, kind: rigid, colour: red}\n"
+                                   "services:\n  - {name: bodies, kind: rigid, rate: 100}\n");
+  const Deployment d = load_deployment(f);
+  const std::vector<Params> bodies = Params(f, d.services[0].params).list("bodies");
+  ASSERT_EQ(bodies.size(), 2u);
+  std::string e = "no error";
+  try {
+    bodies[1].allow_only({"name", "size"});
+  } catch (const ConfigError& x) {
+    e = x.what();
+  }
+  EXPECT_NE(e.find("keys.yaml:4:33: unknown key 'colour'"), std::string::npos) << e;
+}
+
 }  // namespace
 }  // namespace hcosim::rt
