@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <mutex>
@@ -87,6 +88,21 @@ std::string describe(int status) {
 }
 
 bool failed(const Child& c) { return !WIFEXITED(c.status) || WEXITSTATUS(c.status) != 0; }
+
+// The last line a service wrote to its log: its error, when it failed.
+std::string last_line(const fs::path& log) {
+  std::ifstream in(log, std::ios::binary | std::ios::ate);
+  if (!in) return "";
+  const std::streamoff size = in.tellg(), from = std::max<std::streamoff>(0, size - 4096);
+  std::string tail(std::size_t(size - from), '\0');
+  in.seekg(from);
+  in.read(tail.data(), std::streamsize(tail.size()));
+  std::istringstream lines(tail);
+  std::string line, last;
+  while (std::getline(lines, line))
+    if (!line.empty() && line.rfind("--- hcosim up:", 0) != 0) last = line;
+  return last;
+}
 
 // Starts c with its output in `log`, appended to for a restart so that the
 // failed run's output is kept. A restart forks while DDS threads run, so
@@ -358,6 +374,7 @@ int up(const std::vector<std::string>& argv) {
   std::string reason;
   int code = 0;
   bool crashed = false;  // some process died by a signal: its shared memory stays behind
+  std::string last_words;  // failed services' last log lines, not yet printed
   const Child shm_clean{"shm_clean", "/bin/sh", {"-c", "fastdds shm clean"}};
   pid_t cleaner = -1;    // a running shm_clean, or -1
   int next_id = 0;       // restarts so far, for participant ids
@@ -413,12 +430,19 @@ int up(const std::vector<std::string>& argv) {
     else
       for (Child* c : reap(children)) {
         if (!reason.empty()) break;
-        if (failed(*c) && c->policy == rt::OnFailure::kRestart && c->restarts < rt::kMaxRestarts) {
+        // Exit status 2 is a refused configuration or argument
+        // (rt::guarded_main); before the loop ever ran, a restart would be
+        // refused the same way.
+        const bool refused = WIFEXITED(c->status) && WEXITSTATUS(c->status) == 2 && !progress->running(c->name);
+        if (const std::string l = last_line(logs / (c->name + ".log")); failed(*c) && !l.empty())
+          last_words += "  " + c->name + ": " + l + "\n";
+        if (failed(*c) && c->policy == rt::OnFailure::kRestart && c->restarts < rt::kMaxRestarts && !refused) {
           ++c->restarts;
           crashed = crashed || WIFSIGNALED(c->status);
           progress->finish();
-          std::printf("hcosim up: service '%s' ended (%s); restarting it (%d of %d)\n", c->name.c_str(),
-                      describe(c->status).c_str(), c->restarts, rt::kMaxRestarts);
+          std::printf("hcosim up: service '%s' ended (%s); restarting it (%d of %d)\n%s", c->name.c_str(),
+                      describe(c->status).c_str(), c->restarts, rt::kMaxRestarts, last_words.c_str());
+          last_words.clear();
           std::fflush(stdout);
           const fs::path log = logs / (c->name + ".log");
           if (FILE* f = std::fopen(log.c_str(), "a")) {
@@ -438,13 +462,16 @@ int up(const std::vector<std::string>& argv) {
           if (WIFSIGNALED(c->status) && cleaner < 0) cleaner = spawn(shm_clean, logs / "shm_clean.log", true);
         } else if (failed(*c) && c->policy == rt::OnFailure::kIgnore) {
           progress->finish();
-          std::printf("hcosim up: service '%s' ended (%s); on_failure: ignore, the others run on\n", c->name.c_str(),
-                      describe(c->status).c_str());
+          std::printf("hcosim up: service '%s' ended (%s); on_failure: ignore, the others run on\n%s",
+                      c->name.c_str(), describe(c->status).c_str(), last_words.c_str());
+          last_words.clear();
           std::fflush(stdout);
           code = 1;
           if (all_reaped(children)) reason = "every service ended";
         } else if (failed(*c)) {
-          reason = "service '" + c->name + "' ended (" + describe(c->status) + ")" +
+          const bool unrestarted = refused && c->policy == rt::OnFailure::kRestart;
+          reason = "service '" + c->name + "' ended (" + describe(c->status) +
+                   (unrestarted ? " before its loop ran; a refused configuration is not restarted" : "") + ")" +
                    (c->restarts ? " after " + std::to_string(c->restarts) + " restarts" : "");
           code = 1;
         } else if (d.mode == rt::Mode::kRealtime) {
@@ -482,7 +509,7 @@ int up(const std::vector<std::string>& argv) {
   participant.reset();
   if (crashed) clean_shared_memory(d.domain);
 
-  std::printf("hcosim up: %s after %.1f s\n", reason.c_str(), (rt::mono_ns() - start) * 1e-9);
+  std::printf("hcosim up: %s after %.1f s\n%s", reason.c_str(), (rt::mono_ns() - start) * 1e-9, last_words.c_str());
   for (const auto& c : children)
     std::printf("  %-16s %-32s log %s\n", c.name.c_str(),
                 (describe(c.status) + (c.restarts ? ", " + std::to_string(c.restarts) + " restarts" : "")).c_str(),

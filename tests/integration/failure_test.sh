@@ -38,6 +38,25 @@ grep -q "stopped by SIGINT" "$WORK/up2.log" || fail "no stop message"
 for pid in $pids; do alive "$pid" && fail "service $pid survived Ctrl-C"; done
 grep -q "steady .*exit status 0" "$WORK/up2.log" || fail "steady did not exit cleanly: $(cat "$WORK/up2.log")"
 
+# A service that refuses its params is not restarted (it would be refused
+# again), and up shows its error, with the file and line.
+deployment refuse.yaml <<'YAML'
+services:
+  - {name: steady, kind: test_probe, rate: 100, params: {role: source}}
+  - {name: picky, kind: test_probe, rate: 100, on_failure: restart, params: {role: wall, colour: red}}
+YAML
+limit 30 "$BIN/hcosim" up "$WORK/refuse.yaml" --out "$WORK/out3" >"$WORK/up3.log" 2>&1
+code=$?
+[ $code -eq 1 ] || fail "up with a refused service exited $code, expected 1"
+grep -q "service 'picky' ended (exit status 2 before its loop ran; a refused configuration is not restarted)" \
+  "$WORK/up3.log" || fail "the refusal was not named: $(cat "$WORK/up3.log")"
+grep -q "^  picky: hcosim_test_probe: .*refuse.yaml:4:.*unknown key 'colour'" "$WORK/up3.log" ||
+  fail "up did not show picky's error: $(cat "$WORK/up3.log")"
+grep -q "restarting it" "$WORK/up3.log" && fail "picky was restarted: $(cat "$WORK/up3.log")"
+for pid in $(sed -nE 's/.*started +[a-z]+ +pid ([0-9]+).*/\1/p' "$WORK/up3.log"); do
+  alive "$pid" && fail "process $pid still running after up exited"
+done
+
 # A bad file starts nothing and says where the problem is.
 printf 'domain: 1\nservices:\n  - {name: a, kind: test_probe, rte: 5}\n' >"$WORK/bad.yaml"
 err=$("$BIN/hcosim" up "$WORK/bad.yaml" 2>&1); code=$?
