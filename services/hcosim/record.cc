@@ -33,6 +33,8 @@ int record_topics(const Args& a) {
   }
   recorder.close();
   std::cerr << "hcosim record: " << recorder.samples() << " samples to " << a.positional[0] << "\n";
+  if (const std::string lost = recorder.losses(); !lost.empty())
+    std::cerr << "hcosim record: samples Fast DDS reports the recording never received: " << lost << "\n";
   return 0;
 }
 

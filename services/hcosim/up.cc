@@ -494,6 +494,8 @@ int up(const std::vector<std::string>& argv) {
     recorder->close();
     std::printf("hcosim up: recorded %llu samples to %s\n", static_cast<unsigned long long>(recorder->samples()),
                 record.c_str());
+    if (const std::string lost = recorder->losses(); !lost.empty())
+      std::printf("hcosim up: samples Fast DDS reports the recording never received: %s\n", lost.c_str());
   }
   for (const auto& c : children) {
     // SIGTERM from us is a clean stop; anything else non-zero is a failure.

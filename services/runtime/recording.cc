@@ -101,17 +101,27 @@ Recorder::Recorder(Participant& p, const std::string& path, const std::vector<st
     if (!topics.empty() && std::find(topics.begin(), topics.end(), TopicOf<T>::name) == topics.end()) return;
     // No validation: a recording keeps what was on the wire, bad samples included.
     auto reader = std::make_shared<Reader<T>>(p, nullptr, nullptr, TopicOf<T>::qos, kRecorderDepth);
-    pollers_.push_back([this, reader] { reader->take([&](const T& s) { writer_.write(make_record(s, wall_ns())); }); });
+    topics_.push_back({[this, reader] { reader->take([&](const T& s) { writer_.write(make_record(s, wall_ns())); }); },
+                       [reader] { return reader->lost(); }, TopicOf<T>::name});
   });
 }
 
 void Recorder::poll() {
-  for (auto& f : pollers_) f();
+  for (auto& t : topics_) t.poll();
+}
+
+std::string Recorder::losses() const {
+  if (topics_.empty()) return losses_;
+  std::string out;
+  for (const auto& t : topics_)
+    if (const std::uint64_t n = t.lost()) out += (out.empty() ? "" : ", ") + t.name + " " + std::to_string(n);
+  return out;
 }
 
 void Recorder::close() {
   poll();
-  pollers_.clear();
+  losses_ = losses();
+  topics_.clear();
   writer_.close();
 }
 

@@ -114,10 +114,19 @@ class Recorder {
   // Polls a last time and closes the file.
   void close();
   std::uint64_t samples() const { return writer_.count(); }
+  // Samples Fast DDS reports the readers will never receive, per topic,
+  // as "Topic N, ..."; empty when none (or after close()).
+  std::string losses() const;
 
  private:
+  struct Topic {
+    std::function<void()> poll;
+    std::function<std::uint64_t()> lost;
+    std::string name;
+  };
   RecordingWriter writer_;
-  std::vector<std::function<void()>> pollers_;  // one per topic, each owning its reader
+  std::vector<Topic> topics_;  // each owning its reader
+  std::string losses_;         // losses() at close()
 };
 
 }  // namespace hcosim::rt
