@@ -50,7 +50,11 @@ struct Probe {
       s.orientation().w(1.0);
       s.position().z(0.01 * std::sin(2 * M_PI * tick.sim_time_ns * 1e-9));
       if (nan_every > 0 && steps % std::uint64_t(nan_every) == 0) s.position().x(std::nan(""));
-      out.write(s);
+      // A refused write leaves a gap in seq that no reader could fill.
+      if (!out.write(s)) {
+        std::printf("probe %s: Fast DDS refused sample %llu\n", name.c_str(), static_cast<unsigned long long>(sent));
+        std::fflush(stdout);
+      }
       ++sent;
       in.take([&](const ForceFeedback&) { ++answers; });
     });
