@@ -434,8 +434,9 @@ int up(const std::vector<std::string>& argv) {
         // (rt::guarded_main); before the loop ever ran, a restart would be
         // refused the same way.
         const bool refused = WIFEXITED(c->status) && WEXITSTATUS(c->status) == 2 && !progress->running(c->name);
-        if (const std::string l = last_line(logs / (c->name + ".log")); failed(*c) && !l.empty())
-          last_words += "  " + c->name + ": " + l + "\n";
+        if (failed(*c))
+          if (const std::string l = last_line(logs / (c->name + ".log")); !l.empty())
+            last_words += "  " + c->name + ": " + l + "\n";
         if (failed(*c) && c->policy == rt::OnFailure::kRestart && c->restarts < rt::kMaxRestarts && !refused) {
           ++c->restarts;
           crashed = crashed || WIFSIGNALED(c->status);

@@ -115,7 +115,7 @@ class Recorder {
   void close();
   std::uint64_t samples() const { return writer_.count(); }
   // Samples Fast DDS reports the readers will never receive, per topic,
-  // as "Topic N, ..."; empty when none (or after close()).
+  // as "Topic N, ..."; empty when none. After close(), those at close().
   std::string losses() const;
 
  private:
