@@ -434,7 +434,9 @@ int up(const std::vector<std::string>& argv) {
         // (rt::guarded_main); before the loop ever ran, a restart would be
         // refused the same way.
         const bool refused = WIFEXITED(c->status) && WEXITSTATUS(c->status) == 2 && !progress->running(c->name);
-        if (failed(*c))
+        // A process killed from outside (SIGKILL, SIGTERM) wrote no last word.
+        const bool killed = WIFSIGNALED(c->status) && (WTERMSIG(c->status) == SIGKILL || WTERMSIG(c->status) == SIGTERM);
+        if (failed(*c) && !killed)
           if (const std::string l = last_line(logs / (c->name + ".log")); !l.empty())
             last_words += "  " + c->name + ": " + l + "\n";
         if (failed(*c) && c->policy == rt::OnFailure::kRestart && c->restarts < rt::kMaxRestarts && !refused) {
