@@ -435,7 +435,8 @@ int up(const std::vector<std::string>& argv) {
         // refused the same way.
         const bool refused = WIFEXITED(c->status) && WEXITSTATUS(c->status) == 2 && !progress->running(c->name);
         // A process killed from outside (SIGKILL, SIGTERM) wrote no last word.
-        const bool killed = WIFSIGNALED(c->status) && (WTERMSIG(c->status) == SIGKILL || WTERMSIG(c->status) == SIGTERM);
+        const int sig = WIFSIGNALED(c->status) ? WTERMSIG(c->status) : 0;
+        const bool killed = sig == SIGKILL || sig == SIGTERM;
         if (failed(*c) && !killed)
           if (const std::string l = last_line(logs / (c->name + ".log")); !l.empty())
             last_words += "  " + c->name + ": " + l + "\n";
