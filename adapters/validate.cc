@@ -87,6 +87,15 @@ Problem validate(const ForceFeedback& s) {
   if (p) return p;
   if (s.penetration_m() < 0) return std::string("penetration_m is negative");
   if (s.stiffness_n_per_m() < 0) return std::string("stiffness_n_per_m is negative");
+  // The local model: a device evaluates it every tick an answer is late.
+  p = first(check("position", s.position(), kMaxDistanceM), check("normal", s.normal(), 2.0),
+            check("valid_radius_m", s.valid_radius_m(), kMaxDistanceM));
+  if (p) return p;
+  for (std::size_t i = 0; i < s.jacobian().size(); ++i)
+    if (auto q = check(("jacobian[" + std::to_string(i) + "]").c_str(), s.jacobian()[i], kMaxStiffnessNpm)) return q;
+  if (s.valid_radius_m() < 0) return std::string("valid_radius_m is negative");
+  const double n = std::hypot(s.normal().x(), s.normal().y(), s.normal().z());
+  if (n != 0 && std::abs(n - 1) > 1e-6) return "normal is neither zero nor a unit vector (length " + std::to_string(n) + ")";
   return std::nullopt;
 }
 

@@ -18,6 +18,21 @@ HapticState haptic_state(const std::string& device, std::uint64_t seq, const Ste
   return s;
 }
 
+Feel contact_feel(const Eigen::Vector3d& force, const Eigen::Vector3d& position, const Eigen::Vector3d& normal,
+                  double k, double depth, double radius) {
+  const haptic::LocalModel m = haptic::contact_model(force, position, normal, k, radius);
+  Feel f;
+  f.force = force;
+  f.in_contact = true;
+  f.depth = depth;
+  f.stiffness = k;
+  f.position = position;
+  f.jacobian = m.jacobian;
+  f.normal = normal;
+  f.radius = radius;
+  return f;
+}
+
 ForceFeedback force_feedback(const std::string& source, const std::string& device, std::uint64_t seq,
                              const StepStamp& stamp, const Feel& feel) {
   ForceFeedback f;
@@ -29,7 +44,23 @@ ForceFeedback force_feedback(const std::string& source, const std::string& devic
   f.in_contact(feel.in_contact);
   f.penetration_m(feel.depth);
   f.stiffness_n_per_m(feel.stiffness);
+  f.position(to_idl(feel.position));
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) f.jacobian()[std::size_t(3 * r + c)] = feel.jacobian(r, c);
+  f.normal(to_idl(feel.normal));
+  f.valid_radius_m(feel.radius);
   return f;
+}
+
+haptic::LocalModel local_model(const ForceFeedback& f) {
+  haptic::LocalModel m;
+  m.force = from_idl(f.force());
+  m.position = from_idl(f.position());
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) m.jacobian(r, c) = f.jacobian()[std::size_t(3 * r + c)];
+  m.normal = from_idl(f.normal());
+  m.radius = f.valid_radius_m();
+  return m;
 }
 
 }  // namespace hcosim::device

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 
 #include "device/device.h"
+#include "haptic/local_model.h"
 #include "hcosim/idl/haptic.h"
 
 namespace hcosim::device {
@@ -23,16 +24,29 @@ inline Vec3 to_idl(const Eigen::Vector3d& v) {
 HapticState haptic_state(const std::string& device, std::uint64_t seq, const StepStamp& stamp, const Frame& frame,
                          const Eigen::Vector3d& rendered);
 
-// What the stylus feels from one source over a tick.
+// What the stylus feels from one source over a tick, and the local model
+// the device renders until the next answer (haptic/local_model.h).
 struct Feel {
   Eigen::Vector3d force = Eigen::Vector3d::Zero();  // N, on the stylus, world frame
   bool in_contact = false;
   double depth = 0;      // m, >= 0: how far the HIP is inside the source
   double stiffness = 0;  // N/m, >= 0: the contact's stiffness
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // m, the HIP the force was computed at
+  Eigen::Matrix3d jacobian = Eigen::Matrix3d::Zero();  // dF/dx, N/m
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();    // unit, out of the source; zero: none
+  double radius = 0;                                   // m, where the expansion holds
 };
+
+// A penalty contact's feel: `force` at `position`, stiffness k along the
+// unit `normal` (haptic::contact_model), trusted within `radius`.
+Feel contact_feel(const Eigen::Vector3d& force, const Eigen::Vector3d& position, const Eigen::Vector3d& normal,
+                  double k, double depth, double radius);
 
 // The answer of `source` to HapticState `seq` of `device`.
 ForceFeedback force_feedback(const std::string& source, const std::string& device, std::uint64_t seq,
                              const StepStamp& stamp, const Feel& feel);
+
+// The local model an answer carries.
+haptic::LocalModel local_model(const ForceFeedback& f);
 
 }  // namespace hcosim::device

@@ -97,6 +97,7 @@ Touch ElasticSurface::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
   t.force = sim_->spring_force(contact_, state_);
   t.depth = std::max(0.0, (l.rest.col(contact_) - hip).dot(n));
   t.stiffness = t.depth > 1e-9 ? std::max(0.0, t.force.dot(n)) / t.depth : 0;
+  t.normal = n;
   return t;
 }
 

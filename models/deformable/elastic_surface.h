@@ -46,7 +46,8 @@ class ElasticSurface final : public Object {
   // one behavior step. dt must equal options.dt.
   Touch touch(double dt, const Eigen::Vector3d& hip, bool grab) override;
   double behavior_dt() const override { return 0; }
-  void advance() override {}
+  void couple() override {}
+  void integrate() override {}
   Eigen::Matrix3Xd cage() const override { return state_.x; }
   Eigen::Matrix3Xd surface_from(const Eigen::Matrix3Xd& cage) const override { return cage; }
   const std::vector<Eigen::Vector3i>& triangles() const override { return triangles_; }

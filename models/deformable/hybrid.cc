@@ -145,10 +145,11 @@ Touch Hybrid::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
   t.in_contact = true;
   t.depth = std::max(0.0, (chains_.lattice().rest(contact_) - hip).dot(normal_));
   t.stiffness = t.depth > 1e-9 ? std::max(0.0, t.force.dot(normal_)) / t.depth : 0;
+  t.normal = normal_;
   return t;
 }
 
-void Hybrid::advance() {
+void Hybrid::couple() {
   const double dt = spec_.behavior.dt;
   // Chains that came back to rest let their masses go, still.
   for (const int i : held_)
@@ -161,8 +162,9 @@ void Hybrid::advance() {
     if (!masses_->held(e)) masses_->hold(e, true);
     held_.push_back(e);
   }
-  simulated_ = masses_->step(state_, {}).simulated;
 }
+
+void Hybrid::integrate() { simulated_ = masses_->step(state_, {}).simulated; }
 
 Eigen::Matrix3Xd Hybrid::cage() const {
   const massspring::Lattice& lat = masses_->lattice();

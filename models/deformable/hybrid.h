@@ -87,9 +87,11 @@ class Hybrid final : public Object {
   // until grab ends).
   Touch touch(double dt, const Eigen::Vector3d& hip, bool grab) override;
   double behavior_dt() const override { return spec_.behavior.dt; }
-  // Holds each moved chain's mass at the chain's position and releases the
-  // masses whose chains came back to rest, then steps the behavior model.
-  void advance() override;
+  // couple(): holds each moved chain's mass at the chain's position and
+  // releases the masses whose chains came back to rest; integrate(): steps
+  // the behavior model.
+  void couple() override;
+  void integrate() override;
   // cage(): the displacements of the masses the map reads. surface_from:
   // the visual rest mesh plus their map, reading only the cage vertices
   // that moved (apply_moved); exactly the rest mesh at rest, whatever the

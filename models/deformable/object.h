@@ -15,6 +15,7 @@ struct Touch {
   bool in_contact = false;
   double depth = 0;      // m, >= 0: how far the HIP is past the rest surface
   double stiffness = 0;  // N/m, >= 0: normal force over depth, the contact's secant stiffness
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // unit, out of the surface touched (zero: no contact)
 };
 
 class Object {
@@ -27,8 +28,13 @@ class Object {
   virtual Touch touch(double dt, const Eigen::Vector3d& hip, bool grab) = 0;
   // The behavior model's step, s (0: it advances within touch()).
   virtual double behavior_dt() const = 0;
-  // One behavior step.
-  virtual void advance() = 0;
+  // One behavior step, in two parts: couple() copies what the behavior
+  // model takes from the haptic model (what touch() changed); integrate()
+  // then reads nothing touch() changes, so it may run on another thread
+  // while touch() does (a service's haptic thread answering the device).
+  virtual void couple() = 0;
+  virtual void integrate() = 0;
+  void advance() { couple(), integrate(); }
   // What the visual surface depends on, copied (cheap: the behavior
   // model's positions that the visual map reads), and the surface it gives:
   // vertex positions (m, world) in the order of triangles(). surface_from

@@ -9,9 +9,9 @@ ForceSum::ForceSum(double timeout_s) : timeout_(timeout_s) {
   if (!(timeout_s > 0) || !std::isfinite(timeout_s)) throw std::invalid_argument("force sum: timeout must be finite and > 0");
 }
 
-void ForceSum::set(const std::string& source, const Eigen::Vector3d& force, double t) { latest_[source] = {force, t}; }
+void ForceSum::set(const std::string& source, const LocalModel& model, double t) { latest_[source] = {model, t}; }
 
-Eigen::Vector3d ForceSum::total(double t) {
+Eigen::Vector3d ForceSum::total(double t, const Eigen::Vector3d& x) {
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (auto it = latest_.begin(); it != latest_.end();) {
     if (t - it->second.t > timeout_) {
@@ -19,10 +19,16 @@ Eigen::Vector3d ForceSum::total(double t) {
       ++expired_;
       continue;
     }
-    sum += it->second.force;
+    it->second.rendered = evaluate(it->second.model, x);
+    sum += it->second.rendered;
     ++it;
   }
   return sum;
+}
+
+Eigen::Vector3d ForceSum::force_of(const std::string& source) const {
+  const auto it = latest_.find(source);
+  return it == latest_.end() ? Eigen::Vector3d::Zero() : it->second.rendered;
 }
 
 }  // namespace hcosim::haptic

@@ -1,6 +1,7 @@
 // The force a device outputs from many sources (every object the stylus
-// can touch publishes its own): the sum of each source's latest force, a
-// source that stopped publishing dropping out after a timeout.
+// can touch answers on its own): the sum of each source's latest local
+// model at the device's position, a source that stopped answering
+// dropping out after a timeout.
 #pragma once
 
 #include <cstdint>
@@ -9,27 +10,34 @@
 
 #include <Eigen/Core>
 
+#include "haptic/local_model.h"
+
 namespace hcosim::haptic {
 
 class ForceSum {
  public:
-  // timeout_s: a source's force counts for this long after it arrived (> 0).
+  // timeout_s: a source's model counts for this long after it arrived (> 0).
   explicit ForceSum(double timeout_s);
 
-  // The latest force (world frame, N) from `source`, arrived at time t (s).
-  void set(const std::string& source, const Eigen::Vector3d& force, double t);
+  // The latest model from `source`, arrived at time t (s).
+  void set(const std::string& source, const LocalModel& model, double t);
 
-  // Sum of the forces still fresh at time t; sources older than the
-  // timeout are dropped and counted in expired().
-  Eigen::Vector3d total(double t);
+  // Sum over the sources still fresh at time t of their models at x (m,
+  // world); sources older than the timeout are dropped and counted in
+  // expired(). Each source's share is left in force_of().
+  Eigen::Vector3d total(double t, const Eigen::Vector3d& x);
 
   std::size_t sources() const { return latest_.size(); }  // fresh at the last total()
+  bool has(const std::string& source) const { return latest_.count(source) > 0; }
+  // `source`'s force in the last total() (zero if it had none).
+  Eigen::Vector3d force_of(const std::string& source) const;
   std::uint64_t expired() const { return expired_; }
 
  private:
   struct Latest {
-    Eigen::Vector3d force;
+    LocalModel model;
     double t;
+    Eigen::Vector3d rendered = Eigen::Vector3d::Zero();
   };
   double timeout_;
   std::map<std::string, Latest> latest_;

@@ -1,9 +1,12 @@
 // hcosim_deformable: the deformable object service (seed 001's hybrid
-// model, seed 000's elastic sheet and semi-sphere). Every servo tick it
-// takes the latest HapticState of its device, touches each object and
-// answers with one ForceFeedback per object; hybrid objects advance their
-// behavior model at its own rate; at the visual rate a worker thread maps
-// and publishes each object's DeformedMesh, unless no reader is matched.
+// model, seed 000's elastic sheet and semi-sphere). In real time a haptic
+// thread answers each HapticState of its device as it arrives: it touches
+// each object and writes one ForceFeedback per object, with the local
+// model the device renders if a later answer is late. The loop, at normal
+// priority, advances hybrid objects' behavior models at their own rate; at
+// the visual rate a worker thread maps and publishes each object's
+// DeformedMesh, unless no reader is matched. In lockstep the step answers
+// the device's state of the same step, then advances.
 // Topologies are written once, latched for late joiners. Params:
 // docs/deformable.md.
 #include <condition_variable>
@@ -18,6 +21,7 @@
 #include "deformable/map_cache.h"
 #include "deformable/mesh_idl.h"
 #include "device/haptic_idl.h"
+#include "haptic_answer.h"
 #include "service.h"
 
 using namespace hcosim;
@@ -71,12 +75,24 @@ std::unique_ptr<deformable::Object> make_object(const Params& o, const std::stri
   return std::make_unique<deformable::ElasticSurface>(s);
 }
 
+// What the device feels from one object's touch, with the local model it
+// renders until the next answer: stiffness along the face's normal (in a
+// grab the object pulls, so no one-sided test).
+constexpr double kModelRadius = 0.002;  // m: a few ticks of a fast hand
+device::Feel feel(const deformable::Touch& t, const Eigen::Vector3d& hip, bool grab) {
+  if (!t.in_contact) return device::Feel{};
+  device::Feel f = device::contact_feel(t.force, hip, t.normal, t.stiffness, t.depth, kModelRadius);
+  if (grab) f.normal.setZero();
+  return f;
+}
+
 // One visual frame (every object's mesh) at a time on its own thread, so
 // that mapping a dense mesh never delays a servo tick. A frame that finds
-// the worker busy is dropped and counted.
+// the worker busy is dropped and counted as shed (ServiceStatus).
 class VisualWorker {
  public:
-  VisualWorker(Writer<DeformedMesh>& out, std::vector<Item>& items) : out_(out), items_(items), thread_([this] { loop(); }) {}
+  VisualWorker(Service& svc, Writer<DeformedMesh>& out, std::vector<Item>& items)
+      : svc_(svc), out_(out), items_(items), thread_([this] { loop(); }) {}
   ~VisualWorker() { stop(); }
   // Publishes the frame in progress, then ends the thread.
   void stop() {
@@ -93,7 +109,10 @@ class VisualWorker {
   bool post(std::vector<Eigen::Matrix3Xd> cages, const StepStamp& stamp, bool wait) {
     std::unique_lock<std::mutex> l(m_);
     if (wait) cv_.wait(l, [this] { return !busy_; });
-    if (busy_) return false;
+    if (busy_) {
+      svc_.shed_output();
+      return false;
+    }
     busy_ = true, cages_ = std::move(cages), stamp_ = stamp;
     cv_.notify_one();
     return true;
@@ -123,6 +142,7 @@ class VisualWorker {
     }
   }
 
+  Service& svc_;
   Writer<DeformedMesh>& out_;
   std::vector<Item>& items_;
   std::mutex m_;
@@ -160,37 +180,66 @@ int run(int argc, char** argv) {
     MeshTopology t = deformable::mesh_topology(it.name, int(it.model->surface().cols()), it.model->triangles());
     topology.write(t);
   }
-  VisualWorker visual(meshes, items);
-  Window tick_us(1 << 16), behavior_us(1 << 16);
+  // What touch() changes is shared by the haptic thread and the loop's
+  // couple() and cage(): one lock per object, held for those calls only.
+  std::vector<std::unique_ptr<PiMutex>> locks;
+  for (std::size_t k = 0; k < items.size(); ++k) locks.push_back(std::make_unique<PiMutex>());
+  Window answer_us(1 << 16), behavior_us(1 << 16);
+  // Every object's answer to one state, written as soon as it is computed.
+  const auto answer = [&](const HapticState& s, const StepStamp& stamp) {
+    const std::int64_t t0 = mono_ns();
+    const Eigen::Vector3d hip = device::from_idl(s.position());
+    const bool grab = s.buttons() & 1u;
+    for (std::size_t k = 0; k < items.size(); ++k) {
+      Item& it = items[k];
+      deformable::Touch t;
+      {
+        std::lock_guard<PiMutex> l(*locks[k]);
+        t = it.model->touch(servo_dt, hip, grab);
+      }
+      it.contacts += t.in_contact;
+      it.max_force = std::max(it.max_force, t.force.norm());
+      ForceFeedback f = device::force_feedback(it.name, device, s.seq(), stamp, feel(t, hip, grab));
+      force.write(f);
+    }
+    answer_us.add((mono_ns() - t0) * 1e-3);
+  };
+  const bool group = in_haptic_group(svc, device);
+  std::unique_ptr<AnswerThread> haptic;
+  if (svc.options().mode == Mode::kRealtime) {
+    haptic = std::make_unique<AnswerThread>(in, device, [&](const HapticState& s) { answer(s, answer_stamp(s)); });
+    lower_to_normal();  // the loop, and the visual worker it makes, run after the haptic thread
+  }
+  VisualWorker visual(svc, meshes, items);
   HapticState latest;
   bool have = false;
   std::uint64_t frames_dropped = 0;
   double next_frame = 0;
   const int status = svc.run([&](const Tick& tick) {
     const double now = tick.sim_time_ns * 1e-9;
-    svc.take(in, tick, [&](const HapticState& s) {
-      if (s.device().to_string() == device) latest = s, have = true;
-    });
-    const std::int64_t t0 = mono_ns();
-    if (have) {
-      const Eigen::Vector3d hip = device::from_idl(latest.position());
-      const bool grab = latest.buttons() & 1u;
-      for (Item& it : items) {
-        const deformable::Touch t = it.model->touch(servo_dt, hip, grab);
-        it.contacts += t.in_contact;
-        it.max_force = std::max(it.max_force, t.force.norm());
-        ForceFeedback f = device::force_feedback(it.name, device, latest.seq(), svc.stamp(tick),
-                                                 {t.force, t.in_contact, t.depth, t.stiffness});
-        force.write(f);
-      }
+    if (svc.options().mode == Mode::kLockstep) {
+      // In the group the device's state of this step is answered within
+      // it; otherwise the latest state before it (one step behind).
+      const auto keep = [&](const HapticState& s) {
+        if (s.device().to_string() == device) latest = s, have = true;
+      };
+      if (group) take_state_of_step(svc, in, force, tick, device, keep);
+      else svc.take(in, tick, keep);
+      if (have) answer(latest, svc.stamp(tick));
     }
-    if (have) tick_us.add((mono_ns() - t0) * 1e-3);
-    // After the answers are out, so that behavior steps never delay a force.
     const std::int64_t t1 = mono_ns();
     bool stepped = false;
-    for (Item& it : items) {
+    for (std::size_t k = 0; k < items.size(); ++k) {
+      Item& it = items[k];
       const double dt = it.model->behavior_dt();
-      for (; dt > 0 && it.behavior_time + 0.5 * dt <= now + servo_dt; it.behavior_time += dt) it.model->advance(), stepped = true;
+      for (; dt > 0 && it.behavior_time + 0.5 * dt <= now + servo_dt; it.behavior_time += dt) {
+        {
+          std::lock_guard<PiMutex> l(*locks[k]);
+          it.model->couple();
+        }
+        it.model->integrate();
+        stepped = true;
+      }
     }
     if (stepped) behavior_us.add((mono_ns() - t1) * 1e-3);
     if (now + 1e-12 >= next_frame) {
@@ -199,18 +248,22 @@ int run(int argc, char** argv) {
         for (std::size_t k = 0; k < items.size(); ++k) svc.skip_output();
       } else {
         std::vector<Eigen::Matrix3Xd> cages;
-        for (const Item& it : items) cages.push_back(it.model->cage());
+        for (std::size_t k = 0; k < items.size(); ++k) {
+          std::lock_guard<PiMutex> l(*locks[k]);
+          cages.push_back(items[k].model->cage());
+        }
         if (!visual.post(std::move(cages), svc.stamp(tick), svc.options().mode == Mode::kLockstep)) ++frames_dropped;
       }
     }
   });
+  if (haptic) haptic->stop();
   visual.stop();
   for (const Item& it : items)
     std::printf("%s: %llu ticks in contact, max force %.3f N, %llu meshes published\n", it.name.c_str(),
                 static_cast<unsigned long long>(it.contacts), it.max_force, static_cast<unsigned long long>(it.frames));
-  std::printf("%s: haptic answer p50 %.1f us p99 %.1f us over %zu ticks; behavior p50 %.1f us p99 %.1f us; "
-              "visual frame (all objects) p50 %.2f ms p99 %.2f ms, %llu dropped (worker busy)\n",
-              svc.options().name.c_str(), tick_us.percentile(0.5), tick_us.percentile(0.99), tick_us.size(),
+  std::printf("%s: haptic answer (all objects) p50 %.1f us p99 %.1f us over %zu states; behavior p50 %.1f us p99 %.1f us; "
+              "visual frame (all objects) p50 %.2f ms p99 %.2f ms, %llu shed (worker busy)\n",
+              svc.options().name.c_str(), answer_us.percentile(0.5), answer_us.percentile(0.99), answer_us.size(),
               behavior_us.percentile(0.5), behavior_us.percentile(0.99),
               visual.frame_ms().percentile(0.5), visual.frame_ms().percentile(0.99),
               static_cast<unsigned long long>(frames_dropped));

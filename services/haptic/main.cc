@@ -1,12 +1,20 @@
 // hcosim_haptic: the haptic device service. Each servo tick it reads the
-// device and publishes the HapticState, takes the ForceFeedback of every
-// source (waiting up to `answer_wait` for the answers to this tick), sums
-// each source's latest, passes the sum through the passivity controller
-// and outputs it, clamped. Params: docs/haptic.md.
+// device and publishes the HapticState, then waits (up to `answer_wait`)
+// for every source it expects to answer that state; it renders each
+// source's answer, or for a source whose answer is late its latest local
+// model at the current position, sums them, passes the sum through the
+// passivity controller and outputs it, clamped. A late answer, when it
+// comes, is compared with what was rendered in its place. In lockstep
+// the device and the sources at its rate form one Gauss-Seidel group:
+// the force of step k answers the state of step k. Params: docs/haptic.md.
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <memory>
+#include <optional>
+#include <set>
 #include <vector>
 
 #include "device/haptic_idl.h"
@@ -21,6 +29,11 @@ using namespace hcosim;
 using namespace hcosim::rt;
 
 namespace {
+
+// Default share of a tick spent waiting for its answers (answer_wait).
+constexpr double kAnswerShare = 0.8;
+// Lockstep: how long a step waits for its group's answers before failing.
+constexpr double kGroupWaitS = 10;
 
 // Round trips from a HapticState's publication to the first force that
 // answers it, over the last 4096 sequence numbers.
@@ -46,11 +59,36 @@ class RoundTrips {
   Window window_{1 << 16};
 };
 
+// What the device rendered for each source at each recent tick, so that a
+// late answer can be compared with the local model that stood in for it.
+class Rendered {
+ public:
+  void put(const std::string& source, std::uint64_t seq, const Eigen::Vector3d& f) {
+    auto& ring = by_source_[source];
+    ring[seq % ring.size()] = {seq, f};
+  }
+  // What was rendered for `source` at tick `seq`, if still kept.
+  std::optional<Eigen::Vector3d> at(const std::string& source, std::uint64_t seq) const {
+    const auto it = by_source_.find(source);
+    if (it == by_source_.end()) return std::nullopt;
+    const Entry& e = it->second[seq % it->second.size()];
+    if (e.seq != seq) return std::nullopt;
+    return e.force;
+  }
+
+ private:
+  struct Entry {
+    std::uint64_t seq = ~0ull;
+    Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  };
+  std::map<std::string, std::array<Entry, 256>> by_source_;
+};
+
 int run(int argc, char** argv) {
   Service svc(parse_options(argc, argv));
   const Params& p = svc.params();
   p.allow_only({"device", "replay", "script", "passivity", "source_timeout", "max_damping", "reservoir", "hand_stiffness", "hand_damping",
-                "centre", "answer_wait", "sources", "report"});
+                "centre", "answer_wait", "report"});
   const bool replay = p.text("device", "simulated", {"simulated", "replay"}) == "replay";
   const std::string source = p.path(replay ? "replay" : "script");
   if (source.empty())
@@ -71,21 +109,52 @@ int run(int argc, char** argv) {
   if (replay) dev = std::make_unique<device::Replay>(spec, device::load_trajectory(source));
   else dev = std::make_unique<device::SimulatedOmni>(spec, hand, device::load_script(source));
   device::Device& omni = *dev;
-  // Waiting for this tick's answers gives forces computed from this tick's
-  // position; `sources` says how many answers to wait for.
-  const double answer_wait = p.number("answer_wait", 0, 0, 0.9 / spec.servo_hz);
-  const std::size_t sources = std::size_t(p.number("sources", 1, 1, 64));
+  // Real time: how long a tick waits for its answers before it renders;
+  // the rest of the tick renders and outputs.
+  const double answer_wait = p.number("answer_wait", kAnswerShare * dt, 0, 0.9 * dt);
   const std::string report = p.output_path("report");
+
+  // The sources the deployment names for this device are waited for from
+  // the first tick; any other that answers is waited for while it stays
+  // fresh. In lockstep those at this rate are the Gauss-Seidel group.
+  const std::string name = svc.options().name;
+  std::set<std::string> named, group;
+  for (const ForceSource& fs : force_sources(svc.deployment(), name)) {
+    named.insert(fs.object);
+    if (fs.rate_hz == svc.options().rate_hz) group.insert(fs.object);
+  }
+  const bool lockstep = svc.options().mode == Mode::kLockstep;
 
   Writer<HapticState> out(svc.participant());
   Reader<ForceFeedback> in = svc.reader<ForceFeedback>();
-  const std::string name = svc.options().name;
   RoundTrips rtt;
+  Rendered rendered;
+  Window jitter_us(1 << 16), error_n(1 << 12);
   Eigen::Vector3d applied = Eigen::Vector3d::Zero();
   std::uint64_t seq = 0;
-  std::uint64_t on_time = 0, with_sources = 0;  // ticks answered in time, of those with every source matched
-  std::vector<std::string> answered;            // sources that answered this tick (reused: no allocation per tick)
+  std::uint64_t in_tick = 0, with_sources = 0;  // ticks every expected source answered in, of those expecting one
+  std::uint64_t modelled = 0;                   // source-ticks rendered from a local model (the answer was late)
+  double peak = 0;                              // N, largest force rendered
+  std::map<std::string, std::uint64_t> newest;  // per source, the newest state answered
+  std::set<std::string> answered;               // sources that answered this tick's state
+  std::vector<ForceFeedback> deferred;          // lockstep: this step's answers from outside the group
+  const auto handle = [&](const ForceFeedback& s, double now) {
+    const std::string from = s.source().to_string();
+    rtt.answered(s.answers_seq(), mono_ns());
+    if (s.answers_seq() == seq) answered.insert(from);
+    // A late answer: what the user felt in its place, against it.
+    else if (const auto r = rendered.at(from, s.answers_seq())) error_n.add((device::from_idl(s.force()) - *r).norm());
+    auto [it, fresh] = newest.try_emplace(from, s.answers_seq());
+    if (!fresh && s.answers_seq() < it->second) return;  // an older answer overtaken by a newer one
+    it->second = s.answers_seq();
+    sum.set(from, device::local_model(s), now);
+  };
+  const auto mine = [&](const ForceFeedback& s) { return s.device().to_string() == name; };
+  const auto all_in = [&](const std::set<std::string>& want) {
+    return std::includes(answered.begin(), answered.end(), want.begin(), want.end());
+  };
   const int status = svc.run([&](const Tick& tick) {
+    jitter_us.add(tick.late_us);
     const device::Frame f = omni.begin_frame();
     const double now = tick.sim_time_ns * 1e-9;
     HapticState hs = device::haptic_state(name, seq, svc.stamp(tick), f, applied);
@@ -93,40 +162,79 @@ int run(int argc, char** argv) {
     rtt.sent(seq, sent);
     out.write(hs);
     answered.clear();
-    auto take = [&] {
-      svc.take(in, tick, [&](const ForceFeedback& s) {
-        if (s.device().to_string() != name) return;
-        rtt.answered(s.answers_seq(), mono_ns());
-        const std::string from = s.source().to_string();
-        sum.set(from, device::from_idl(s.force()), now);
-        if (s.answers_seq() == seq && std::find(answered.begin(), answered.end(), from) == answered.end())
-          answered.push_back(from);
-      });
-    };
-    take();
-    // In lockstep this tick's answers belong to the next tick: no wait.
-    const std::int64_t deadline = sent + std::int64_t(svc.options().mode == Mode::kLockstep ? 0 : answer_wait * 1e9);
-    while (answered.size() < sources && mono_ns() < deadline && in.wait(std::chrono::nanoseconds(deadline - mono_ns())))
+    std::set<std::string> expected;
+    if (lockstep && !group.empty()) {
+      // Gauss-Seidel: this step's state went out; the group answers it
+      // within the step, and the force rendered now is theirs.
+      for (const ForceFeedback& s : deferred) handle(s, now);
+      deferred.clear();
+      expected = group;
+      const std::int64_t deadline = sent + std::int64_t(kGroupWaitS * 1e9);
+      for (;;) {
+        in.take_before(tick.step + 1, [&](const ForceFeedback& s) {
+          if (!mine(s)) return;
+          if (s.stamp().step() == tick.step && !group.count(s.source().to_string())) deferred.push_back(s);
+          else handle(s, now);
+        });
+        if (all_in(group) || stop_requested()) break;
+        if (mono_ns() > deadline)
+          throw std::runtime_error(name + ": step " + std::to_string(tick.step) + ": the sources of its group did not answer in " +
+                                   std::to_string(int(kGroupWaitS)) + " s");
+        in.wait(std::chrono::milliseconds(100));
+      }
+    } else {
+      const auto take = [&] {
+        svc.take(in, tick, [&](const ForceFeedback& s) {
+          if (mine(s)) handle(s, now);
+        });
+      };
       take();
-    if (in.matched() >= int(sources)) ++with_sources, on_time += answered.size() >= sources;
-    const Eigen::Vector3d env = sum.total(now);
+      // A source is expected once the deployment names it or it has
+      // answered lately; in lockstep outside a group, this tick's answers
+      // belong to the next tick: no wait.
+      expected = named;
+      sum.total(now, f.position);  // drops sources silent for source_timeout
+      for (const auto& [from, last] : newest)
+        if (sum.has(from)) expected.insert(from);
+      const std::int64_t deadline = sent + std::int64_t(lockstep ? 0 : answer_wait * 1e9);
+      while (!all_in(expected) && mono_ns() < deadline && in.wait(std::chrono::nanoseconds(deadline - mono_ns())))
+        take();
+    }
+    const Eigen::Vector3d env = sum.total(now, f.position);
+    for (const auto& [from, last] : newest) {
+      if (!sum.has(from)) continue;
+      rendered.put(from, seq, sum.force_of(from));
+      modelled += last != seq;
+    }
+    if (!expected.empty()) ++with_sources, in_tick += all_in(expected);
+    peak = std::max(peak, env.norm());
     applied = omni.end_frame(passivity ? pc.filter(env, f.velocity, applied) : env);
+    if (seq % 1000 == 999)
+      svc.set_haptic_figures(with_sources ? double(in_tick) / double(with_sources) : 0, error_n.percentile(0.99));
     ++seq;
   });
   const Window& w = rtt.window();
-  const double on_time_ratio = with_sources ? double(on_time) / double(with_sources) : 0;
+  const double in_tick_ratio = with_sources ? double(in_tick) / double(with_sources) : 0;
+  svc.set_haptic_figures(in_tick_ratio, error_n.percentile(0.99));
   if (!report.empty()) {
     std::ofstream r(report);
     r << "{\"ticks\":" << seq << ",\"answered\":" << w.size() << ",\"p50_us\":" << w.percentile(0.5)
-      << ",\"p99_us\":" << w.percentile(0.99) << ",\"on_time_ratio\":" << on_time_ratio
+      << ",\"p99_us\":" << w.percentile(0.99) << ",\"on_time_ratio\":" << in_tick_ratio
+      << ",\"jitter_p50_us\":" << jitter_us.percentile(0.5) << ",\"jitter_p99_us\":" << jitter_us.percentile(0.99)
+      << ",\"modelled\":" << modelled << ",\"late_answers\":" << error_n.size()
+      << ",\"force_error_p99_n\":" << error_n.percentile(0.99) << ",\"peak_force_n\":" << peak
       << ",\"saturated\":" << omni.saturated() << "}\n";
     if (!r) throw std::runtime_error("cannot write " + report);
   }
   std::printf("%s: %llu ticks, %zu answered, round trip p50 %.0f us p99 %.0f us, %.4f on time, %llu saturated, "
               "%llu sources timed out, %.3g J dissipated by the passivity controller\n",
               name.c_str(), static_cast<unsigned long long>(omni.frames()), w.size(), w.percentile(0.5),
-              w.percentile(0.99), on_time_ratio, static_cast<unsigned long long>(omni.saturated()),
+              w.percentile(0.99), in_tick_ratio, static_cast<unsigned long long>(omni.saturated()),
               static_cast<unsigned long long>(sum.expired()), pc.dissipated());
+  std::printf("%s: wake-up jitter p50 %.0f us p99 %.0f us; %llu source-ticks rendered from a local model; "
+              "%zu late answers, rendered-force error p99 %.4f N of a %.3f N peak\n",
+              name.c_str(), jitter_us.percentile(0.5), jitter_us.percentile(0.99),
+              static_cast<unsigned long long>(modelled), error_n.size(), error_n.percentile(0.99), peak);
   return status;
 }
 

@@ -200,16 +200,23 @@ class Progress {
         factor_ = (s.stamp().sim_time_ns() - last.stamp().sim_time_ns()) * 1e-9 / wall;
         sim_ns_ = s.stamp().sim_time_ns();
       }
+      const bool first = last.service().size() == 0;
       last = s;
       if (s.state().to_string() != "starting") ran_.insert(s.service().to_string());
+      // What each service got of its scheduling, once (docs/haptic.md).
+      if (first) {
+        if (tty_ && shown_) std::printf("\n"), shown_ = false;
+        std::printf("  %-16s scheduling: %s\n", s.service().c_str(), s.scheduling().c_str());
+      }
     });
     const std::int64_t now = rt::mono_ns();
     if (now - printed_ns_ < (tty_ ? 500'000'000 : std::int64_t(kLogProgressS * 1e9)) || sim_ns_ == 0) return;
     printed_ns_ = now;
     std::string line = text("sim %.1f s, real-time factor %.2f", sim_ns_ * 1e-9, factor_);
     for (const auto& [name, s] : latest_)
-      line += text(" | %s %.0f Hz, %llu overruns", name.c_str(), s.rate_achieved_hz(),
-                   static_cast<unsigned long long>(s.overruns()));
+      line += text(" | %s %.0f Hz, %llu overruns%s", name.c_str(), s.rate_achieved_hz(),
+                   static_cast<unsigned long long>(s.overruns()),
+                   s.outputs_shed() ? text(", %llu shed", static_cast<unsigned long long>(s.outputs_shed())).c_str() : "");
     std::printf(tty_ ? "\r%s\033[K" : "%s\n", line.c_str());
     std::fflush(stdout);
     shown_ = true;
@@ -308,6 +315,9 @@ int up(const std::vector<std::string>& argv) {
                                     rt::to_string(d.mode), "--rate", r.str(), "--step", s.str(),
                                     "--deployment", file, "--out", fs::absolute(out).string()};
   };
+  const auto scheduling = [](const rt::ServiceSpec& s) {
+    return std::vector<std::string>{"--priority", std::to_string(s.priority), "--cpu", std::to_string(s.cpu)};
+  };
   std::vector<Child> children;
   for (const auto& s : d.services) {
     if (!s.unneeded.empty()) {
@@ -315,7 +325,10 @@ int up(const std::vector<std::string>& argv) {
       continue;
     }
     rt::check_policy(s, d.mode);  // --mode may have changed the file's mode
-    children.push_back({s.name, find_service(s.kind, d.file, s.line), common(s.name, s.rate_hz), s.on_failure});
+    Child c{s.name, find_service(s.kind, d.file, s.line), common(s.name, s.rate_hz), s.on_failure};
+    const auto sch = scheduling(s);
+    c.args.insert(c.args.end(), sch.begin(), sch.end());
+    children.push_back(std::move(c));
   }
   if (d.mode == rt::Mode::kLockstep) {
     Child clock{"clock", find_service("clock", d.file, 1), common("clock", 1.0 / d.step_s)};

@@ -1,11 +1,15 @@
-// hcosim_rigid: the rigid body service (seed 000 §2.1). Every physics tick
-// it takes the latest HapticState of its device, drives the stylus tip
-// with it, steps the scene (the analytic model, MuJoCo, or both side by
-// side in crosscheck mode), answers with one ForceFeedback per body from
-// its god-object proxy, and publishes each body's
-// RigidBodyState; in crosscheck mode also each body's RigidDivergence.
+// hcosim_rigid: the rigid body service (seed 000 §2.1). In real time a
+// haptic thread answers each HapticState of its device as it arrives: it
+// drives the stylus tip with it and answers with one ForceFeedback per
+// body from its god-object proxy, with the local model the device renders
+// if a later answer is late. Every physics tick the loop steps the scene
+// (the analytic model, MuJoCo, or both side by side in crosscheck mode)
+// and publishes each body's RigidBodyState; in crosscheck mode also each
+// body's RigidDivergence. In lockstep the step answers the device's state
+// of the same step, then steps the bodies.
 // Params: docs/rigid.md.
 #include <algorithm>
+#include <atomic>
 #include <cstdio>
 #include <memory>
 #include <vector>
@@ -15,6 +19,7 @@
 #include "rigid/proxy.h"
 #include "rigid/rigid_idl.h"
 #include "rigid/world.h"
+#include "haptic_answer.h"
 #include "service.h"
 
 using namespace hcosim;
@@ -30,6 +35,9 @@ constexpr double kParkedTipZ = 1.0;
 constexpr double kStaleState = 0.02;  // s
 // A sleeping body's state is repeated this often, for late subscribers.
 constexpr double kSleepingRepeat = 0.2;  // s
+// How far from the answered HIP the device may trust a contact's local
+// model (a few ticks of a fast hand).
+constexpr double kModelRadius = 0.002;  // m
 
 struct Item {
   std::string name;
@@ -120,24 +128,22 @@ int run(int argc, char** argv) {
   Writer<RigidDivergence> divergences(svc.participant());
   std::vector<rigid::Proxy> proxies(items.size());
   std::vector<device::Feel> feels(items.size());
-  Window step_us(1 << 16);
-  HapticState latest;
-  bool have = false;
-  double state_time = 0;  // s, when `latest` arrived
-  std::uint64_t contact_ticks = 0, hits = 0;  // hits: tip impulses of the analytic model
-  double felt = 0, worst[4] = {0, 0, 0, 0};  // max force; max divergences
-  const int status = svc.run([&](const Tick& tick) {
-    const double now = tick.sim_time_ns * 1e-9;
-    svc.take(in, tick, [&](const HapticState& s) {
-      if (s.device().to_string() == device) latest = s, have = true, state_time = now;
-    });
+  Window answer_us(1 << 16);
+  // The haptic thread moves the tip and the proxies, the loop steps the
+  // bodies: one lock for the scene, held by each for that part only.
+  PiMutex scene;
+  std::atomic<std::int64_t> state_mono{0};  // ns, when the latest device state arrived; 0: none yet
+  std::uint64_t contact_ticks = 0;
+  double felt = 0;
+  // Each body's god-object proxy answers as its own source. The tip that
+  // touches the scene is the deepest proxy, not the HIP: a HIP pushed into
+  // a body must not place the tip inside it (MuJoCo would answer with a
+  // huge soft-contact force).
+  const auto answer = [&](const HapticState& s, const StepStamp& stamp) {
     const std::int64_t t0 = mono_ns();
-    if (have) {
-      // Each body's god-object proxy answers as its own source. The tip
-      // that touches the scene is the deepest proxy, not the HIP: a HIP
-      // pushed into a body must not place the tip inside it (MuJoCo would
-      // answer with a huge soft-contact force).
-      const Eigen::Vector3d h = device::from_idl(latest.position());
+    const Eigen::Vector3d h = device::from_idl(s.position());
+    {
+      std::lock_guard<PiMutex> l(scene);
       tip.x = h;
       double deepest = 0;
       for (std::size_t i = 0; i < items.size(); ++i) {
@@ -145,34 +151,77 @@ int run(int argc, char** argv) {
         f = device::Feel{};
         const Eigen::Vector3d proxy = proxies[i].update(body(i), spec.tip_radius, h);
         if (!proxies[i].in_contact()) continue;
-        f.in_contact = true;
-        f.force = stiffness * (proxy - h);
-        if (f.force.norm() > max_force) f.force *= max_force / f.force.norm();
-        f.depth = (proxy - h).norm();
-        f.stiffness = stiffness;
-        if (f.depth > deepest) deepest = f.depth, tip.x = proxy;
+        const Eigen::Vector3d d = proxy - h;
+        const double depth = d.norm();
+        if (depth > deepest) deepest = depth, tip.x = proxy;
+        // The spring pulls the HIP toward the proxy; past max_force it is
+        // clamped, and the model holds that force (no stiffness).
+        const Eigen::Vector3d n = depth > 0 ? Eigen::Vector3d(d / depth) : Eigen::Vector3d::Zero();
+        const Eigen::Vector3d fk = rigid::proxy_force(proxy, h, stiffness, max_force);
+        const bool clamped = stiffness * depth > max_force;
+        f = device::contact_feel(fk, h, n, clamped ? 0.0 : stiffness, depth, kModelRadius);
       }
-      tip.v = now - state_time <= kStaleState ? device::from_idl(latest.velocity()) : Eigen::Vector3d::Zero();
+      tip.v = device::from_idl(s.velocity());
       set_tip(tip);
     }
-    if (analytic) hits += std::uint64_t(analytic->step(dt).hits);
-    if (mujoco)
-      for (int k = 0; k < substeps; ++k) mujoco->step();
-    const StepStamp stamp = svc.stamp(tick);
-    if (have) {
-      bool touching = false;
-      for (std::size_t i = 0; i < items.size(); ++i) {
-        touching = touching || feels[i].in_contact;
-        felt = std::max(felt, feels[i].force.norm());
-        ForceFeedback f = device::force_feedback(items[i].name, device, latest.seq(), stamp, feels[i]);
-        force.write(f);
+    state_mono = mono_ns();
+    bool touching = false;
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      touching = touching || feels[i].in_contact;
+      felt = std::max(felt, feels[i].force.norm());
+      ForceFeedback f = device::force_feedback(items[i].name, device, s.seq(), stamp, feels[i]);
+      force.write(f);
+    }
+    contact_ticks += touching;
+    answer_us.add((mono_ns() - t0) * 1e-3);
+  };
+  const bool group = in_haptic_group(svc, device);
+  std::unique_ptr<AnswerThread> haptic;
+  if (svc.options().mode == Mode::kRealtime) {
+    haptic = std::make_unique<AnswerThread>(in, device, [&](const HapticState& s) { answer(s, answer_stamp(s)); });
+    lower_to_normal();  // the loop steps the bodies at normal priority
+  }
+  HapticState latest;
+  bool have = false;
+  double state_time = 0;  // s, lockstep: the simulated time `latest` arrived
+  Window step_us(1 << 16);
+  std::uint64_t hits = 0;                // tip impulses of the analytic model
+  double worst[4] = {0, 0, 0, 0};        // max divergences
+  const int status = svc.run([&](const Tick& tick) {
+    const double now = tick.sim_time_ns * 1e-9;
+    if (svc.options().mode == Mode::kLockstep) {
+      const auto keep = [&](const HapticState& s) {
+        if (s.device().to_string() == device) latest = s, have = true, state_time = now;
+      };
+      if (group) take_state_of_step(svc, in, force, tick, device, keep);
+      else svc.take(in, tick, keep);
+      if (have) {
+        if (now - state_time > kStaleState) latest.velocity(Vec3{});
+        answer(latest, svc.stamp(tick));
       }
-      contact_ticks += touching;
+    }
+    const std::int64_t t0 = mono_ns();
+    std::vector<rigid::Body> now_bodies;
+    {
+      std::lock_guard<PiMutex> l(scene);
+      // A device silent for longer than kStaleState no longer moves the
+      // tip: it stops where it is, so that the tip cannot coast on through
+      // the scene.
+      const std::int64_t last = state_mono;
+      if (svc.options().mode == Mode::kRealtime && last != 0 && (mono_ns() - last) * 1e-9 > kStaleState) {
+        tip.v.setZero();
+        set_tip(tip);
+      }
+      if (analytic) hits += std::uint64_t(analytic->step(dt).hits);
+      if (mujoco)
+        for (int k = 0; k < substeps; ++k) mujoco->step();
+      for (std::size_t i = 0; i < items.size(); ++i) now_bodies.push_back(body(i));
     }
     step_us.add((mono_ns() - t0) * 1e-3);
+    const StepStamp stamp = svc.stamp(tick);
     for (std::size_t i = 0; i < items.size(); ++i) {
       Item& it = items[i];
-      const rigid::Body b = body(i);
+      const rigid::Body& b = now_bodies[i];
       it.max_speed = std::max(it.max_speed, b.v.norm());
       // Awake bodies every tick; a sleeping one when it falls asleep, then
       // once a second.
@@ -183,11 +232,15 @@ int run(int argc, char** argv) {
       if (states.matched() == 0) {
         svc.skip_output();
       } else {
-        RigidBodyState s = rigid::body_state(it.name, stamp, b, primary);
-        states.write(s);
+        RigidBodyState st = rigid::body_state(it.name, stamp, b, primary);
+        states.write(st);
       }
       if (analytic && mujoco) {
-        RigidDivergence d = rigid::divergence(it.name, stamp, b, mujoco->body(i));
+        RigidDivergence d;
+        {
+          std::lock_guard<PiMutex> l(scene);
+          d = rigid::divergence(it.name, stamp, b, mujoco->body(i));
+        }
         const double e[4] = {d.position_m(), d.orientation_rad(), d.velocity_m_s(), d.angular_velocity_rad_s()};
         for (int k = 0; k < 4; ++k) worst[k] = std::max(worst[k], e[k]);
         if (divergences.matched() == 0)
@@ -197,15 +250,17 @@ int run(int argc, char** argv) {
       }
     }
   });
+  if (haptic) haptic->stop();
   for (std::size_t i = 0; i < items.size(); ++i) {
     const rigid::Body b = body(i);
     std::printf("%s: %s at [%.4f, %.4f, %.4f] m, max speed %.3f m/s, %s\n", items[i].name.c_str(), rigid::name(b.shape),
                 b.x.x(), b.x.y(), b.x.z(), items[i].max_speed, b.sleeping ? "asleep" : "awake");
   }
-  std::printf("%s: %s backend, tip and bodies step p50 %.1f us p99 %.1f us over %zu ticks; %llu tip hits, "
-              "%llu ticks in contact, max force %.3f N\n",
+  std::printf("%s: %s backend, bodies step p50 %.1f us p99 %.1f us over %zu ticks; haptic answer (all bodies) "
+              "p50 %.1f us p99 %.1f us over %zu states; %llu tip hits, %llu states in contact, max force %.3f N\n",
               svc.options().name.c_str(), backend.c_str(), step_us.percentile(0.5), step_us.percentile(0.99),
-              step_us.size(), static_cast<unsigned long long>(hits), static_cast<unsigned long long>(contact_ticks), felt);
+              step_us.size(), answer_us.percentile(0.5), answer_us.percentile(0.99), answer_us.size(),
+              static_cast<unsigned long long>(hits), static_cast<unsigned long long>(contact_ticks), felt);
   if (analytic && mujoco)
     std::printf("%s: max divergence from MuJoCo: position %.3g m, orientation %.3g rad, velocity %.3g m/s, "
                 "angular velocity %.3g rad/s\n",

@@ -16,7 +16,7 @@ namespace {
 
 ServiceSpec parse_service(const std::string& file, const YAML::Node& node) {
   if (!node.IsMap()) throw config_error(file, node, "each service must be a map with name, kind and rate");
-  check_keys(file, node, {"name", "kind", "rate", "params", "on_failure", "objects"});
+  check_keys(file, node, {"name", "kind", "rate", "params", "on_failure", "objects", "priority", "cpu"});
   ServiceSpec s;
   s.line = node.Mark().line + 1;
   s.where = file + ":" + std::to_string(s.line) + ":" + std::to_string(node.Mark().column + 1);
@@ -40,6 +40,19 @@ ServiceSpec parse_service(const std::string& file, const YAML::Node& node) {
     else if (v == "ignore") s.on_failure = OnFailure::kIgnore;
     else throw config_error(file, n, "'on_failure' must be stop_all, restart or ignore, not '" + v + "'");
   }
+  // The kinds whose threads answer the hand come first by default.
+  if (s.kind == "haptic" || s.kind == "rigid" || s.kind == "deformable") s.priority = kHapticPriority;
+  const auto whole = [&](const char* key, int lo, int hi, int& out) {
+    const YAML::Node n = node[key];
+    if (!n) return;
+    const double v = config_number(file, n, key);
+    if (v != std::floor(v) || v < lo || v > hi)
+      throw config_error(file, n, std::string("'") + key + "' must be a whole number from " + std::to_string(lo) +
+                                      " to " + std::to_string(hi));
+    out = int(v);
+  };
+  whole("priority", 0, 99, s.priority);
+  whole("cpu", 0, 1023, s.cpu);
   s.params = node["params"] ? node["params"] : YAML::Node(YAML::NodeType::Map);
   if (!s.params.IsMap()) throw config_error(file, node["params"], "'params' must be a map");
   if (const YAML::Node n = node["objects"]) {
@@ -158,6 +171,20 @@ Mode parse_mode(const std::string& s) {
   if (s == "realtime") return Mode::kRealtime;
   if (s == "lockstep") return Mode::kLockstep;
   throw std::invalid_argument("mode must be 'realtime' or 'lockstep', not '" + s + "'");
+}
+
+std::vector<ForceSource> force_sources(const Deployment& d, const std::string& device) {
+  std::vector<ForceSource> out;
+  for (const ServiceSpec& s : d.services) {
+    if (!s.unneeded.empty() || (s.kind != "rigid" && s.kind != "deformable")) continue;
+    const YAML::Node dev = s.params["device"];
+    if ((dev && dev.IsScalar() ? dev.Scalar() : std::string("omni")) != device) continue;
+    const YAML::Node list = s.params[s.kind == "rigid" ? "bodies" : "objects"];
+    if (!list || !list.IsSequence()) continue;
+    for (const YAML::Node& o : list)
+      if (o.IsMap() && o["name"] && o["name"].IsScalar()) out.push_back({o["name"].Scalar(), s.name, s.rate_hz});
+  }
+  return out;
 }
 
 Deployment load_deployment(const std::string& path) {

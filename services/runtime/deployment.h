@@ -29,6 +29,10 @@ enum class OnFailure {
   kIgnore,   // let the others run on (real time only); the exit status is still 1
 };
 constexpr int kMaxRestarts = 3;
+// SCHED_FIFO priority of the haptic kinds' haptic threads (haptic, rigid,
+// deformable) unless the entry says `priority`: above the normal
+// scheduler, below the kernel's own threaded interrupts (50).
+constexpr int kHapticPriority = 30;
 const char* to_string(OnFailure f);
 
 // One service entry of the deployment.
@@ -40,6 +44,10 @@ struct ServiceSpec {
   OnFailure on_failure = OnFailure::kStopAll;
   std::vector<std::string> objects;  // scene objects this service serves; empty: every one of its kind
   std::string unneeded;  // why the scene does not need this service ("" when it does): hcosim up does not start it
+  // Real-time scheduling of its haptic threads (real time only): SCHED_FIFO
+  // priority 1..99, 0 for the normal scheduler; the core to pin to, -1: any.
+  int priority = 0;
+  int cpu = -1;
   std::string where;   // "FILE:LINE:COL" of its on_failure (else of the entry), for check_policy
   int line = 0;        // 1-based line of the entry in the file
 };
@@ -75,6 +83,17 @@ struct Deployment {
 // Reads and validates a whole deployment file. Throws ConfigError on the
 // first problem, naming FILE:LINE:COL.
 Deployment load_deployment(const std::string& path);
+
+// One object that answers a haptic device: a scene object (or a body or
+// object in a service's own params) of a rigid or deformable service that
+// `hcosim up` starts and whose `device` param names that device.
+struct ForceSource {
+  std::string object;   // ForceFeedback.source
+  std::string service;  // the service answering for it
+  double rate_hz = 0;   // that service's rate
+};
+// Every source answering `device` in `d`, in file order.
+std::vector<ForceSource> force_sources(const Deployment& d, const std::string& device);
 
 // Kind-specific parameters of one service, read with located errors.
 class Params {

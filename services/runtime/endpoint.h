@@ -4,14 +4,17 @@
 #include <algorithm>
 #include <chrono>
 #include <functional>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <fastdds/dds/core/status/PublicationMatchedStatus.hpp>
 #include <fastdds/dds/core/status/SubscriptionMatchedStatus.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/DataWriterListener.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 
@@ -27,14 +30,48 @@ inline eprosima::fastrtps::Duration_t to_dds(std::chrono::nanoseconds d) {
 
 // Heartbeat period of lockstep writers, ns (see Writer).
 inline constexpr std::uint32_t kLockstepHeartbeatNs = 100'000;
+// In lockstep HapticState's writers and readers are TRANSIENT_LOCAL: a
+// step of the Gauss-Seidel group waits for the device's state of that same
+// step, which a reader matched a moment after the write must still get
+// (KEEP_LAST 1 keeps it). The answers cannot be so: with several instances
+// (one per object) Fast DDS 2.9.1 slowed a lockstep run thirtyfold; a
+// source waits for its writer to reach the device instead (Writer::reaches).
+template <class T>
+constexpr bool durable_in_lockstep() {
+  return std::is_same_v<T, HapticState>;
+}
 
-// Samples refused by validation: how many and the latest reason.
+// The participant of an endpoint, from its handle (the endpoint's GUID).
+inline eprosima::fastrtps::rtps::GuidPrefix_t participant_of(const eprosima::fastrtps::rtps::InstanceHandle_t& h) {
+  return eprosima::fastrtps::rtps::iHandle2GUID(h).guidPrefix;
+}
+
+// Samples refused by validation: how many and the latest reason. Readers
+// on several threads (a haptic thread's and the loop's) add to one.
 struct Rejections {
+  void add(std::string reason) {
+    std::lock_guard<std::mutex> l(m);
+    ++count, last = std::move(reason);
+  }
+  mutable std::mutex m;
   std::uint64_t count = 0;
   std::string last;  // "Topic: reason"
 };
 
 // Writes samples of T on TopicOf<T>::name with a named QoS profile.
+// The readers a writer has matched (Fast DDS 2.9.1 leaves
+// get_matched_subscriptions unimplemented), kept from its match events.
+struct Matches : eprosima::fastdds::dds::DataWriterListener {
+  void on_publication_matched(eprosima::fastdds::dds::DataWriter*,
+                              const eprosima::fastdds::dds::PublicationMatchedStatus& s) override {
+    std::lock_guard<std::mutex> l(m);
+    if (s.current_count_change > 0) readers.push_back(s.last_subscription_handle);
+    else readers.erase(std::remove(readers.begin(), readers.end(), s.last_subscription_handle), readers.end());
+  }
+  mutable std::mutex m;
+  std::vector<eprosima::fastrtps::rtps::InstanceHandle_t> readers;
+};
+
 template <class T>
 class Writer {
  public:
@@ -47,9 +84,10 @@ class Writer {
       // send in answer to a heartbeat: the default 3 s period would make
       // each step last that long.
       qos.reliable_writer_qos().times.heartbeatPeriod = eprosima::fastrtps::Duration_t(0, kLockstepHeartbeatNs);
-      writer_ = p.publisher()->create_datawriter(p.topic<T>(), qos);
+      if (durable_in_lockstep<T>()) qos.durability().kind = eprosima::fastdds::dds::TRANSIENT_LOCAL_DURABILITY_QOS;
+      writer_ = p.publisher()->create_datawriter(p.topic<T>(), qos, &matches_, match_mask());
     } else {
-      writer_ = p.publisher()->create_datawriter_with_profile(p.topic<T>(), profile);
+      writer_ = p.publisher()->create_datawriter_with_profile(p.topic<T>(), profile, &matches_, match_mask());
     }
     if (!writer_)
       throw std::runtime_error(std::string("cannot create a writer for ") + TopicOf<T>::name + " with QoS profile '" +
@@ -76,8 +114,21 @@ class Writer {
     return s.current_count;
   }
 
+  // Whether a reader of the participant that `peer` (any endpoint's
+  // handle) belongs to is matched: what is written now reaches it.
+  bool reaches(const eprosima::fastrtps::rtps::InstanceHandle_t& peer) const {
+    const auto prefix = participant_of(peer);
+    std::lock_guard<std::mutex> l(matches_.m);
+    return std::any_of(matches_.readers.begin(), matches_.readers.end(),
+                       [&](const auto& r) { return participant_of(r) == prefix; });
+  }
+
  private:
+  static eprosima::fastdds::dds::StatusMask match_mask() {
+    return eprosima::fastdds::dds::StatusMask::publication_matched();
+  }
   Participant& p_;
+  Matches matches_;  // before writer_, which calls it
   eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
 };
 
@@ -100,6 +151,7 @@ class Reader {
       if (p.lockstep()) {
         qos.reliability().kind = eprosima::fastdds::dds::RELIABLE_RELIABILITY_QOS;
         qos.reliable_reader_qos().times.heartbeatResponseDelay = eprosima::fastrtps::Duration_t(0, 0);
+        if (durable_in_lockstep<T>()) qos.durability().kind = eprosima::fastdds::dds::TRANSIENT_LOCAL_DURABILITY_QOS;
       }
       qos.history().kind = eprosima::fastdds::dds::KEEP_LAST_HISTORY_QOS;
       qos.history().depth = depth;
@@ -128,29 +180,33 @@ class Reader {
       if (!info.valid_data) continue;  // instance disposal, not data
       if (validate_) {
         if (auto problem = validate_(sample_)) {
-          if (rejections_) {
-            ++rejections_->count;
-            rejections_->last = std::string(TopicOf<T>::name) + ": " + *problem;
-          }
+          if (rejections_) rejections_->add(std::string(TopicOf<T>::name) + ": " + *problem);
           continue;
         }
       }
       ++admitted;
+      current_writer_ = info.publication_handle;
       f(sample_);
     }
     return admitted;
   }
+
+  // The writer of the sample being passed to f (valid inside f).
+  const eprosima::fastrtps::rtps::InstanceHandle_t& current_writer() const { return current_writer_; }
 
   // take() for a lockstep step: only samples stamped before `step`, in
   // step order (ties in arrival order); later ones are kept for the steps
   // they belong to.
   template <class F>
   std::size_t take_before(std::uint64_t step, F&& f) {
-    take([&](const T& s) { held_.push_back(s); });
+    take([&](const T& s) { held_.push_back({s, current_writer_}); });
     std::stable_sort(held_.begin(), held_.end(),
-                     [](const T& a, const T& b) { return a.stamp().step() < b.stamp().step(); });
+                     [](const Held& a, const Held& b) { return a.sample.stamp().step() < b.sample.stamp().step(); });
     std::size_t n = 0;
-    while (n < held_.size() && held_[n].stamp().step() < step) f(held_[n++]);
+    for (; n < held_.size() && held_[n].sample.stamp().step() < step; ++n) {
+      current_writer_ = held_[n].writer;
+      f(held_[n].sample);
+    }
     held_.erase(held_.begin(), held_.begin() + std::ptrdiff_t(n));
     return n;
   }
@@ -181,7 +237,12 @@ class Reader {
   Rejections* rejections_;
   eprosima::fastdds::dds::DataReader* reader_ = nullptr;
   T sample_;  // reused so that large samples do not reallocate every take
-  std::vector<T> held_;  // lockstep: samples taken ahead of their step
+  struct Held {
+    T sample;
+    eprosima::fastrtps::rtps::InstanceHandle_t writer;
+  };
+  std::vector<Held> held_;  // lockstep: samples taken ahead of their step
+  eprosima::fastrtps::rtps::InstanceHandle_t current_writer_;
 };
 
 }  // namespace hcosim::rt

@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <cmath>
 #include <csignal>
+#include <cstdio>
 #include <cstring>
 #include <ctime>
 #include <iostream>
@@ -66,6 +67,21 @@ double value_of(const std::string& flag, const char* v) {
   return x;
 }
 
+int whole_of(const std::string& flag, const char* v, int lo, int hi) {
+  const double x = value_of(flag, v);
+  if (x != std::floor(x) || x < lo || x > hi)
+    throw std::invalid_argument(flag + " needs a whole number from " + std::to_string(lo) + " to " + std::to_string(hi) +
+                                ", not '" + v + "'");
+  return int(x);
+}
+
+// A lockstep step has no deadline: nothing to put first, and a FIFO
+// thread waiting on the clock would only hold a core from the others.
+std::string schedule(const Options& o) {
+  if (o.mode == Mode::kLockstep) return apply({0, o.scheduling.cpu}) + " (lockstep: no deadline)";
+  return apply(o.scheduling);
+}
+
 }  // namespace
 
 std::int64_t mono_ns() {
@@ -95,6 +111,8 @@ Options parse_options(int argc, char** argv) {
     else if (flag == "--qos") o.qos_file = v;
     else if (flag == "--deployment") o.deployment = v;
     else if (flag == "--out") o.out = v;
+    else if (flag == "--priority") o.scheduling.priority = whole_of(flag, v, 0, 99);
+    else if (flag == "--cpu") o.scheduling.cpu = whole_of(flag, v, -1, 1023);
     else throw std::invalid_argument("unknown option " + flag);
   }
   if (o.name.empty() || o.name.size() > 31) throw std::invalid_argument("--name NAME (1 to 31 characters) is required");
@@ -110,11 +128,14 @@ Service::Service(Options options)
     : options_(std::move(options)),
       period_steps_(steps_per_period(options_)),
       deployment_(options_.deployment.empty() ? Deployment{} : load_deployment(options_.deployment)),
+      scheduling_(schedule(options_)),
       participant_(options_.domain, options_.name, options_.qos_file, nullptr, options_.mode == Mode::kLockstep,
                    Security{deployment_.security, options_.name}),
       params_(params_of(deployment_, options_.name)),
       status_(participant_) {
   install_stop_handlers();
+  std::printf("%s: scheduling: %s\n", options_.name.c_str(), scheduling_.c_str());
+  std::fflush(stdout);
   heartbeat(0, 0, Phase::kStarting);
 }
 
@@ -156,9 +177,16 @@ void Service::heartbeat(std::int64_t sim_time_ns, std::uint64_t step, Phase phas
   s.step_p99_us(step_us_.percentile(0.99));
   s.steps(steps_);
   s.overruns(overruns_);
-  s.samples_rejected(rejections_.count);
-  s.last_rejection(rejections_.last.substr(0, 128));
+  {
+    std::lock_guard<std::mutex> l(rejections_.m);
+    s.samples_rejected(rejections_.count);
+    s.last_rejection(rejections_.last.substr(0, 128));
+  }
   s.outputs_skipped(outputs_skipped_);
+  s.outputs_shed(outputs_shed_);
+  s.scheduling(scheduling_.substr(0, 127));
+  s.in_tick_ratio(in_tick_ratio_);
+  s.force_error_p99_n(force_error_p99_n_);
   status_.write(s);
 
   jitter_us_.clear();
@@ -187,7 +215,7 @@ int Service::run_realtime(const std::function<void(const Tick&)>& step) {
     if (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) continue;
     const std::int64_t woke = mono_ns();
     const Tick tick{std::uint64_t(std::llround(double(k * period_ns) / (options_.step_s * 1e9))), k * period_ns,
-                    period_ns * 1e-9};
+                    period_ns * 1e-9, (woke - due) * 1e-3};
     step(tick);
     const std::int64_t done = mono_ns();
     // A step that ends after the next one was due is an overrun; the missed

@@ -3,6 +3,7 @@
 // step function; the runtime decides when it runs.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -11,6 +12,7 @@
 #include "deployment.h"
 #include "endpoint.h"
 #include "participant.h"
+#include "realtime.h"
 #include "stats.h"
 #include "validate.h"
 
@@ -27,6 +29,7 @@ struct Options {
   std::string qos_file;       // --qos (default: default_qos_file())
   std::string deployment;     // --deployment: file holding this service's params
   std::string out = "out";    // --out: folder for the files a service writes (videos, plots)
+  Scheduling scheduling;      // --priority (SCHED_FIFO 1..99, 0 normal), --cpu: real time only
 };
 
 // Parses argv; throws std::invalid_argument with a usage message on error.
@@ -37,6 +40,7 @@ struct Tick {
   std::uint64_t step;       // base-step index (StepStamp.step of outputs)
   std::int64_t sim_time_ns; // simulated time at this step
   double dt_s;              // time since this service's previous step, s
+  double late_us = 0;       // real time: how late the step woke after it was due, us (0 in lockstep)
 };
 
 class Service {
@@ -73,6 +77,18 @@ class Service {
 
   // Counts an output not computed because no reader is matched.
   void skip_output() { ++outputs_skipped_; }
+  // Counts an output dropped because the CPU was short (a frame whose
+  // predecessor was still being made). Any thread.
+  void shed_output() { ++outputs_shed_; }
+
+  // What the constructor's thread got of --priority and --cpu: the
+  // scheduling that the threads it creates inherit, Fast DDS's included
+  // (realtime.h). Reported in every ServiceStatus.
+  const std::string& scheduling() const { return scheduling_; }
+  // A haptic device's loop figures, reported in its ServiceStatus.
+  void set_haptic_figures(double in_tick_ratio, double force_error_p99_n) {
+    in_tick_ratio_ = in_tick_ratio, force_error_p99_n_ = force_error_p99_n;
+  }
 
   // Calls step() at the configured rate, from the wall clock (realtime) or
   // the lockstep master's ClockTick (lockstep), until SIGINT/SIGTERM, the
@@ -95,6 +111,7 @@ class Service {
   void heartbeat(std::int64_t sim_time_ns, std::uint64_t step, Phase phase = Phase::kRunning);
 
   const Options& options() const { return options_; }
+  const Deployment& deployment() const { return deployment_; }
   Participant& participant() { return participant_; }
 
  private:
@@ -104,12 +121,15 @@ class Service {
   Options options_;
   std::uint64_t period_steps_;  // base steps per service step
   Deployment deployment_;       // --deployment's file (empty without one)
+  std::string scheduling_;      // before the participant, whose threads inherit it
   Participant participant_;
   Params params_;
   Writer<ServiceStatus> status_;
   Rejections rejections_;
   Window jitter_us_, step_us_;
   std::uint64_t steps_ = 0, overruns_ = 0, outputs_skipped_ = 0;
+  std::atomic<std::uint64_t> outputs_shed_{0};
+  double in_tick_ratio_ = 0, force_error_p99_n_ = 0;
   std::uint64_t steps_at_heartbeat_ = 0;
   std::int64_t last_heartbeat_ns_ = 0;  // 0 until the first heartbeat
   Phase phase_ = Phase::kStarting;      // of the last heartbeat

@@ -12,7 +12,7 @@ services:
   - name: omni
     kind: haptic
     rate: 1000
-    params: {script: press.yaml, centre: [0, 0, 0.1], sources: 2, answer_wait: 0.0005}
+    params: {script: press.yaml, centre: [0, 0, 0.1], answer_wait: 0.0005}
   - name: objs
     kind: deformable
     rate: 1000

@@ -26,6 +26,20 @@ TEST(HapticIdl, ForceCarriesTheFeel) {
   EXPECT_FALSE(validate(f));
 }
 
+TEST(HapticIdl, AnswerCarriesItsLocalModel) {
+  const Feel feel = contact_feel({0, 0, 1}, {0.01, 0, -0.002}, {0, 0, 1}, 500, 0.002, 0.003);
+  const ForceFeedback f = force_feedback("wall", "omni", 3, StepStamp{}, feel);
+  EXPECT_FALSE(validate(f));
+  const haptic::LocalModel m = local_model(f);
+  EXPECT_EQ(m.force, feel.force);
+  EXPECT_EQ(m.position, feel.position);
+  EXPECT_EQ(m.jacobian, feel.jacobian);
+  EXPECT_EQ(m.jacobian(2, 2), -500);
+  EXPECT_EQ(m.normal, feel.normal);
+  EXPECT_EQ(m.radius, 0.003);
+  EXPECT_NEAR(haptic::evaluate(m, {0.01, 0, -0.003}).z(), 1.5, 1e-12);
+}
+
 TEST(HapticIdl, VectorsRoundTrip) {
   const Eigen::Vector3d v(0.1, -2, 3e-5);
   EXPECT_EQ(from_idl(to_idl(v)), v);

@@ -51,6 +51,27 @@ TEST(Validate, ForceFeedbackBounds) {
   EXPECT_EQ(validate(f).value_or(""), "penetration_m is negative");
 }
 
+// A device evaluates an answer's local model every late tick: a NaN there
+// would reach the stylus as surely as a NaN force.
+TEST(Validate, ForceFeedbackLocalModel) {
+  ForceFeedback f;
+  f.normal().z(1.0);
+  f.jacobian()[8] = -500;
+  f.valid_radius_m(0.002);
+  EXPECT_FALSE(validate(f));
+  f.jacobian()[4] = std::nan("");
+  EXPECT_EQ(validate(f).value_or(""), "jacobian[4] is NaN");
+  f.jacobian()[4] = 0;
+  f.normal().z(0.5);
+  EXPECT_EQ(validate(f).value_or("").rfind("normal is neither zero nor a unit vector", 0), 0u);
+  f.normal().z(0);
+  f.valid_radius_m(-1);
+  EXPECT_EQ(validate(f).value_or(""), "valid_radius_m is negative");
+  f.valid_radius_m(0);
+  f.position().y(std::numeric_limits<double>::infinity());
+  EXPECT_EQ(validate(f).value_or(""), "position.y is +Inf");
+}
+
 TEST(Validate, MeshSizesMustAgree) {
   DeformedMesh m;
   m.positions() = {0, 0, 0, 1, 1, 1};

@@ -1,0 +1,99 @@
+// How a force source meets the device's states: in real time a thread of
+// its own answers each HapticState as it arrives, never waiting on the
+// service's loop; in lockstep the step waits for the device's state of the
+// same step (the Gauss-Seidel group, docs/cosimulation.md).
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+#include "service.h"
+
+namespace hcosim::rt {
+
+// Calls answer(state) on its own thread for every admissible HapticState
+// of `device` as it arrives. The thread inherits the scheduling of the
+// thread that makes this (realtime.h): make it before lowering that one.
+class AnswerThread {
+ public:
+  using Answer = std::function<void(const HapticState&)>;
+  AnswerThread(Reader<HapticState>& in, std::string device, Answer answer)
+      : in_(in), device_(std::move(device)), answer_(std::move(answer)), thread_([this] { loop(); }) {}
+  ~AnswerThread() { stop(); }
+  AnswerThread(const AnswerThread&) = delete;
+  AnswerThread& operator=(const AnswerThread&) = delete;
+  void stop() {
+    stop_ = true;
+    if (thread_.joinable()) thread_.join();
+  }
+
+ private:
+  void loop() {
+    while (!stop_ && !stop_requested())
+      if (in_.wait(std::chrono::milliseconds(20)))
+        in_.take([&](const HapticState& s) {
+          if (s.device().to_string() == device_) answer_(s);
+        });
+  }
+  Reader<HapticState>& in_;
+  std::string device_;
+  Answer answer_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;  // last: starts once the rest is built
+};
+
+// The stamp of an answer computed on arrival: the step and simulated time
+// of the state it answers, written now.
+inline StepStamp answer_stamp(const HapticState& s) {
+  StepStamp st = s.stamp();
+  st.wall_time_ns(wall_ns());
+  return st;
+}
+
+// Whether a source at `rate_hz` steps with `device` in one Gauss-Seidel
+// group: a lockstep deployment that runs that haptic service at the same
+// rate. Otherwise its answers follow the Jacobi scheme (one step behind).
+inline bool in_haptic_group(const Service& svc, const std::string& device) {
+  if (svc.options().mode != Mode::kLockstep) return false;
+  for (const ServiceSpec& s : svc.deployment().services)
+    if (s.name == device && s.kind == "haptic" && s.unneeded.empty()) return s.rate_hz == svc.options().rate_hz;
+  return false;
+}
+
+// Lockstep, in the group: takes `device`'s states up to this tick's step,
+// waiting until the one of this step has come, f(state) for each; then,
+// until `answers` reaches the device, waits for that too (an answer written
+// before its writer matched the device's reader would be lost, and the
+// device would wait for it forever).
+template <class F>
+void take_state_of_step(Service& svc, Reader<HapticState>& in, Writer<ForceFeedback>& answers, const Tick& tick,
+                        const std::string& device, F&& f) {
+  const std::int64_t deadline = mono_ns() + 10'000'000'000;
+  const auto late = [&](const char* what) {
+    return std::runtime_error(svc.options().name + ": step " + std::to_string(tick.step) + ": " + what + " '" + device +
+                              "' after 10 s");
+  };
+  bool got = false;
+  eprosima::fastrtps::rtps::InstanceHandle_t from;
+  for (;;) {
+    in.take_before(tick.step + 1, [&](const HapticState& s) {
+      if (s.device().to_string() != device) return;
+      got = got || s.stamp().step() == tick.step;
+      from = in.current_writer();
+      f(s);
+    });
+    if (got || stop_requested()) break;
+    if (mono_ns() > deadline) throw late("no HapticState for this step from");
+    in.wait(std::chrono::milliseconds(100));
+  }
+  while (got && !answers.reaches(from) && !stop_requested()) {
+    if (mono_ns() > deadline) throw late("the answers' writer has not matched a reader of");
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+}
+
+}  // namespace hcosim::rt
