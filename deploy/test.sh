@@ -24,7 +24,7 @@ if [ "${1:-}" = "--sanitize" ]; then
   # libgphoto2's and libusb's camera lists; hcosim never uses it.
   export OPENCV_VIDEOIO_PRIORITY_GPHOTO2=0
   exec ctest -j "$(nproc)" --output-on-failure \
-    -E '^(bench\..*|integration\.(haptic|deformable|ar_view|tracker|replay|stall|faults|security_wire)|interop\.cyclone_mesh)$' "$@"
+    -E '^(bench\..*|integration\.(haptic|haptic_loop|deformable|ar_view|tracker|replay|stall|faults|security_wire)|interop\.cyclone_mesh)$' "$@"
 fi
 "$root/deploy/build.sh"
 cd "$root/build"

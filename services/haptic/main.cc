@@ -114,15 +114,15 @@ int run(int argc, char** argv) {
   const double answer_wait = p.number("answer_wait", kAnswerShare * dt, 0, 0.9 * dt);
   const std::string report = p.output_path("report");
 
-  // The sources the deployment names for this device are waited for from
-  // the first tick; any other that answers is waited for while it stays
-  // fresh. In lockstep those at this rate are the Gauss-Seidel group.
+  // In real time a source is waited for once it has answered and while it
+  // stays fresh (a service still building its model is not yet a source;
+  // one that died drops out after source_timeout). In lockstep the sources
+  // the deployment names at this rate are the Gauss-Seidel group, waited
+  // for from the first step.
   const std::string name = svc.options().name;
-  std::set<std::string> named, group;
-  for (const ForceSource& fs : force_sources(svc.deployment(), name)) {
-    named.insert(fs.object);
+  std::set<std::string> group;
+  for (const ForceSource& fs : force_sources(svc.deployment(), name))
     if (fs.rate_hz == svc.options().rate_hz) group.insert(fs.object);
-  }
   const bool lockstep = svc.options().mode == Mode::kLockstep;
 
   Writer<HapticState> out(svc.participant());
@@ -189,10 +189,8 @@ int run(int argc, char** argv) {
         });
       };
       take();
-      // A source is expected once the deployment names it or it has
-      // answered lately; in lockstep outside a group, this tick's answers
-      // belong to the next tick: no wait.
-      expected = named;
+      // In lockstep outside a group, this tick's answers belong to the next
+      // tick: no wait.
       sum.total(now, f.position);  // drops sources silent for source_timeout
       for (const auto& [from, last] : newest)
         if (sum.has(from)) expected.insert(from);

@@ -17,9 +17,9 @@ struct Scheduling {
 };
 
 // Gives the calling thread `s` as far as the system allows, and with a
-// priority locks the process's memory (not under a sanitizer, whose shadow
-// memory is terabytes). Never throws for a refusal: returns one line that
-// says what the thread got and, for what it did not, why.
+// priority locks the process's memory. A sanitizer build keeps the normal
+// scheduler. Never throws for a refusal: returns one line that says what
+// the thread got and, for what it did not, why.
 std::string apply(const Scheduling& s);
 
 // The calling thread back to the normal scheduler (its affinity kept).

@@ -4,8 +4,9 @@
 //   source : publishes HapticState (HIP on a vertical sine, seq counting
 //            the samples sent), counts answers; param nan_every N makes
 //            every Nth sample NaN, profile P sets the writer's QoS profile.
-//   wall   : answers each HapticState with the ForceFeedback of a wall at z = 0;
-//            nan_every N makes every Nth answer's force NaN.
+//   wall   : answers each HapticState with the ForceFeedback of a wall at z = 0
+//            and its local model; nan_every N makes every Nth answer's force
+//            NaN, delay S holds each answer S seconds (to the tick).
 //   camera : publishes 640x480 bgr8 CameraFrames (921,600 bytes of pixels).
 //   mesh   : publishes a DeformedMesh of `vertices` vertices and its topology.
 // fail_after S makes any role exit with status 3 after S seconds;
@@ -15,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <deque>
 #include <thread>
 
 #include "service.h"
@@ -60,9 +62,15 @@ struct Probe {
     });
   }
 
-  int wall() {
+  // The wall at z = 0 answers each state `delay` s after it arrived (to
+  // the tick), with its local model: exact, since the wall is linear. Out
+  // of contact the model is expanded about the HIP's foot on the wall,
+  // where its force is zero, so that a device rendering it late still
+  // feels the wall begin at z = 0.
+  int wall(double delay) {
     Reader<HapticState> in = svc.reader<HapticState>();
     Writer<ForceFeedback> out(svc.participant());
+    std::deque<std::pair<std::int64_t, ForceFeedback>> due;
     return svc.run([&](const Tick& tick) {
       begin_step();
       in.take([&](const HapticState& s) {
@@ -77,8 +85,17 @@ struct Probe {
         f.in_contact(depth > 0);
         f.penetration_m(depth);
         f.stiffness_n_per_m(stiffness);
-        out.write(f);
+        f.position(s.position());
+        if (depth == 0) f.position().z(0);
+        f.jacobian()[8] = -stiffness;
+        f.normal().z(1);
+        f.valid_radius_m(0.005);
+        due.emplace_back(mono_ns() + std::int64_t(delay * 1e9), f);
       });
+      while (!due.empty() && due.front().first <= mono_ns()) {
+        out.write(due.front().second);
+        due.pop_front();
+      }
     });
   }
 
@@ -132,13 +149,13 @@ struct Probe {
 int run(Options o) {
   Service svc(o);
   const Params& p = svc.params();
-  p.allow_only({"role", "nan_every", "fail_after", "vertices", "stiffness", "profile", "start_delay"});
+  p.allow_only({"role", "nan_every", "fail_after", "vertices", "stiffness", "profile", "start_delay", "delay"});
   const std::string role = p.text("role", "source", {"source", "wall", "camera", "mesh"});
   std::this_thread::sleep_for(std::chrono::duration<double>(p.number("start_delay", 0, 0, 60)));
   Probe probe{svc, o.name, p.number("nan_every", 0, 0, 1e6), p.number("fail_after", 0, 0, 1e6),
               p.number("stiffness", 500, 0, 1e5), std::uint32_t(p.number("vertices", 1000, 3, 1e6))};
   const int code = role == "source" ? probe.source(p.text("profile", "control", {"control", "state"}))
-                   : role == "wall" ? probe.wall()
+                   : role == "wall" ? probe.wall(p.number("delay", 0, 0, 1))
                    : role == "camera" ? probe.camera()
                                       : probe.mesh();
   std::printf("probe %s: role %s, steps %llu, sent %llu, answers %llu\n", o.name.c_str(), role.c_str(),

@@ -1,0 +1,150 @@
+# The haptic loop as the hand meets it (docs/haptic.md, "The loop").
+# 1. Real time, a device and two sources (a rigid cube, an elastic sheet)
+#    for 10 s: at least 99 % of ticks answered by every source within the
+#    tick (the bench's goal is 99.9 %; this bound is a test's, under load).
+# 2. A source that answers 3 ms late (a linear wall): the device renders
+#    its local model, so the force it outputs is the wall's at the current
+#    position (within rounding), its step from tick to tick never larger
+#    than the wall's stiffness times that tick's motion, and the late
+#    answers agree with what was rendered in their place.
+# 3. Lockstep: the force the device outputs at step k is the sum of its
+#    sources' answers to its state k (the Gauss-Seidel group).
+source "$(dirname "$0")/lib.sh"
+cat >"$WORK/tour.yaml" <<'YAML'
+start: [0, 0, 0.05]
+actions:
+  - move_to: {to: [-0.03, 0, 0.023], speed: 0.05}
+  - press: {depth: 0.008, speed: 0.01}
+  - hold: {duration: 1}
+  - release: {speed: 0.02}
+  - move_to: {to: [0.03, 0, 0.024], speed: 0.05}
+  - press: {depth: 0.01, speed: 0.01}
+  - hold: {duration: 1}
+  - release: {speed: 0.02}
+  - hold: {duration: 10}
+YAML
+deployment realtime.yaml <<'YAML'
+mode: realtime
+duration: 10
+scene:
+  objects:
+    - {name: cube, kind: rigid, shape: cube, size: 0.01, mass: 0.05, centre: [-0.03, 0, 0.01]}
+    - {name: sheet, kind: deformable, model: sheet, centre: [0.03, 0, 0.02], size: 0.03}
+services:
+  - name: omni
+    kind: haptic
+    rate: 1000
+    params: {script: tour.yaml, centre: [0, 0, 0.02], report: omni.json}
+  - name: bodies
+    kind: rigid
+    rate: 1000
+  - name: objects
+    kind: deformable
+    rate: 1000
+YAML
+limit 60 "$BIN/hcosim" up "$WORK/realtime.yaml" --out "$WORK/rt" >"$WORK/rt.log" 2>&1 || fail "real-time up exited $?"
+grep -q "omni  *scheduling: " "$WORK/rt.log" || fail "up does not show the device's scheduling: $(cat "$WORK/rt.log")"
+summary=$(grep "omni:.*ticks" "$WORK/rt/logs/omni.log") || fail "no summary from the device"
+echo "$summary"
+ratio=$(jq -r .on_time_ratio "$WORK/omni.json")
+awk -v r="$ratio" 'BEGIN { exit !(r >= 0.99) }' || fail "only $ratio of ticks answered within the tick: $summary"
+grep -q "states in contact" "$WORK/rt/logs/bodies.log" || fail "no rigid summary"
+awk '/states in contact/ { for (i = 1; i <= NF; i++) if ($(i + 1) == "states" && $(i + 2) == "in") n = $i } END { exit !(n > 100) }' \
+  "$WORK/rt/logs/bodies.log" || fail "the stylus never pressed the cube: $(grep 'states in contact' "$WORK/rt/logs/bodies.log")"
+grep -qE "^sheet: [1-9][0-9]* ticks in contact" "$WORK/rt/logs/objects.log" || fail "the stylus never pressed the sheet"
+
+# 2. A wall answering 3 ms late; passivity off, so that what the device
+# outputs is what it rendered.
+cat >"$WORK/press.yaml" <<'YAML'
+start: [0, 0, 0.01]
+actions:
+  - press: {depth: 0.02, speed: 0.02}
+  - hold: {duration: 0.5}
+  - release: {speed: 0.02}
+  - press: {depth: 0.02, speed: 0.04}
+  - hold: {duration: 3}
+YAML
+deployment late.yaml <<'YAML'
+mode: realtime
+duration: 4
+services:
+  - name: omni
+    kind: haptic
+    rate: 1000
+    params: {script: press.yaml, passivity: off, report: late.json}
+  - name: wall
+    kind: test_probe
+    rate: 1000
+    params: {role: wall, stiffness: 500, delay: 0.003}
+YAML
+start state "$BIN/hcosim" echo HapticState --count 0 --timeout 8
+limit 30 "$BIN/hcosim" up "$WORK/late.yaml" --out "$WORK/late" >"$WORK/late.log" 2>&1 || fail "up exited $?"
+wait "${PIDS[-1]}"
+grep "omni:" "$WORK/late/logs/omni.log"
+modelled=$(jq -r .modelled "$WORK/late.json")
+[ "$modelled" -gt 1000 ] || fail "only $modelled ticks rendered from the wall's local model"
+# Consecutive states k, k+1: F_k = rendered_force of k+1 answers x_k.
+jq -r 'select(.device == "omni") | [.seq, .position.x, .position.y, .position.z,
+       .rendered_force.x, .rendered_force.y, .rendered_force.z] | @tsv' "$WORK/state.log" | sort -n >"$WORK/ticks.tsv"
+[ "$(wc -l <"$WORK/ticks.tsv")" -gt 2000 ] || fail "only $(wc -l <"$WORK/ticks.tsv") device states on the wire"
+awk -F'\t' -v k=500 '
+  { seq[NR] = $1; x[NR] = $2; y[NR] = $3; z[NR] = $4; fz[NR] = $7 }
+  END {
+    for (i = 1; i < NR; i++) {
+      if (seq[i + 1] != seq[i] + 1) continue
+      # F rendered at tick seq[i] (carried by state seq[i] + 1) against the wall at x of seq[i].
+      wall = z[i] < 0 ? -k * z[i] : 0
+      err = fz[i + 1] - wall; if (err < 0) err = -err
+      if (err > worst) worst = err
+      pairs++
+      if (i > 1 && seq[i] == seq[i - 1] + 1) {
+        dx = sqrt((x[i] - x[i - 1]) ^ 2 + (y[i] - y[i - 1]) ^ 2 + (z[i] - z[i - 1]) ^ 2)
+        step = fz[i + 1] - fz[i]; if (step < 0) step = -step
+        if (step > k * dx + 1e-6) { bad++; if (step - k * dx > over) over = step - k * dx }
+      }
+      if (wall > peak) peak = wall
+    }
+    printf "late wall: %d tick pairs, force off the wall by at most %.2e N of %.3f N, %d steps over k |dx| (by %.2e N)\n",
+      pairs, worst, peak, bad, over
+    exit !(pairs > 2000 && peak > 1 && worst < 1e-3 && bad == 0)
+  }' "$WORK/ticks.tsv" || fail "the device did not render the late wall's local model"
+err=$(jq -r .force_error_p99_n "$WORK/late.json")
+awk -v e="$err" 'BEGIN { exit !(e < 1e-3) }' || fail "late answers differ from what was rendered: p99 $err N"
+
+# 3. Lockstep: the answer to state k is rendered at step k.
+deployment lockstep.yaml <<'YAML'
+mode: lockstep
+duration: 2
+services:
+  - name: omni
+    kind: haptic
+    rate: 1000
+    params: {script: tour.yaml, centre: [0, 0, 0.02], passivity: off}
+  - name: bodies
+    kind: rigid
+    rate: 1000
+    params:
+      device: omni
+      bodies: [{name: cube, shape: cube, size: 0.01, mass: 0.05, centre: [-0.03, 0, 0.01]}]
+YAML
+limit 60 "$BIN/hcosim" up "$WORK/lockstep.yaml" --out "$WORK/ls" --record "$WORK/ls.rec" >"$WORK/ls.log" 2>&1 ||
+  fail "lockstep up exited $?: $(tail -n 5 "$WORK/ls.log")"
+"$BIN/hcosim" export "$WORK/ls.rec" --topic HapticState >"$WORK/hs.jsonl" || fail "export HapticState"
+"$BIN/hcosim" export "$WORK/ls.rec" --topic ForceFeedback >"$WORK/ff.jsonl" || fail "export ForceFeedback"
+jq -r '[.seq, .rendered_force.z] | @tsv' "$WORK/hs.jsonl" | sort -n >"$WORK/rendered.tsv"
+jq -r '[.answers_seq, .force.z, .in_contact] | @tsv' "$WORK/ff.jsonl" | sort -n >"$WORK/answers.tsv"
+awk -F'\t' '
+  NR == FNR { f[$1] += $2; if ($3 == "true") touched[$1] = 1; next }
+  { r[$1] = $2; n = $1 > n ? $1 : n }
+  END {
+    for (k = 0; k < n; k++) {
+      if (!(k in f) || !((k + 1) in r)) { missing++; continue }
+      d = r[k + 1] - f[k]; if (d < 0) d = -d
+      if (d > worst) worst = d
+      checked++; contact += (k in touched)
+    }
+    printf "lockstep: %d steps checked, %d in contact, %d without an answer, worst |rendered - answer| %.2e N\n",
+      checked, contact, missing, worst
+    exit !(checked > 1900 && contact > 100 && missing == 0 && worst < 1e-12)
+  }' "$WORK/answers.tsv" "$WORK/rendered.tsv" || fail "the device did not render the answer to its state of the same step"
+echo "haptic_loop_test: ok"
