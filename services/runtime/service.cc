@@ -222,7 +222,10 @@ int Service::run_realtime(const std::function<void(const Tick&)>& step) {
     // ticks are skipped, not run late in a burst.
     std::int64_t next = k + 1;
     const bool overrun = done > start + next * period_ns;
-    if (overrun) next = (done - start) / period_ns + 1;
+    if (overrun) {
+      next = (done - start) / period_ns + 1;
+      outputs_shed_ += std::uint64_t(next - k - 1);  // the skipped ticks' outputs
+    }
     record_step((woke - due) * 1e-3, (done - woke) * 1e-3, overrun);
     heartbeat(tick.sim_time_ns, tick.step);
     k = next;

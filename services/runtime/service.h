@@ -78,7 +78,8 @@ class Service {
   // Counts an output not computed because no reader is matched.
   void skip_output() { ++outputs_skipped_; }
   // Counts an output dropped because the CPU was short (a frame whose
-  // predecessor was still being made). Any thread.
+  // predecessor was still being made). Any thread. A real-time loop's
+  // skipped ticks (after an overrun) count here too.
   void shed_output() { ++outputs_shed_; }
 
   // What the constructor's thread got of --priority and --cpu: the

@@ -89,9 +89,44 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"security_type", "security: keys\n", ":1:11: ", "a map with 'dir'"},
         BadCase{"security_key", "security: {dri: keys}\n", ":1:12: ", "did you mean 'dir'?"},
         BadCase{"security_empty", "security: {dir: ''}\n", ":1:17: ", "'dir' must name a folder"},
+        BadCase{"priority", "services:\n  - {name: a, kind: b, rate: 5, priority: 100}\n", ":2:43: ",
+                "'priority' must be a whole number from 0 to 99"},
+        BadCase{"cpu", "services:\n  - {name: a, kind: b, rate: 5, cpu: 0.5}\n", ":2:38: ", "'cpu' must be a whole number"},
         BadCase{"undefined_object", "scene:\n  objects: []\nservices:\n  - {name: a, kind: rigid, rate: 5, objects: [x]}\n",
                 ":4:47: ", "no object 'x' in the scene"}),
     [](const auto& info) { return std::string(info.param.name); });
+
+// The haptic kinds come first unless the entry says otherwise; the
+// device's sources are the objects of the services that name it.
+TEST(Deployment, HapticKindsArePrioritisedAndTheirSourcesFound) {
+  const Deployment d = load_deployment(write_file("loop.yaml", R"(scene:
+  objects:
+    - {name: box, kind: rigid, shape: cube}
+    - {name: liver, kind: deformable, model: hybrid}
+services:
+  - {name: omni, kind: haptic, rate: 1000}
+  - {name: bodies, kind: rigid, rate: 1000, cpu: 1}
+  - {name: objects, kind: deformable, rate: 500, priority: 0, params: {device: omni}}
+  - {name: other, kind: rigid, rate: 1000, objects: [box], params: {device: phantom}}
+  - {name: cam, kind: tracker, rate: 30}
+)"));
+  ASSERT_EQ(d.services.size(), 5u);
+  EXPECT_EQ(d.services[0].priority, kHapticPriority);
+  EXPECT_EQ(d.services[1].priority, kHapticPriority);
+  EXPECT_EQ(d.services[1].cpu, 1);
+  EXPECT_EQ(d.services[2].priority, 0);
+  EXPECT_EQ(d.services[4].priority, 0);
+  EXPECT_EQ(d.services[4].cpu, -1);
+  const std::vector<ForceSource> s = force_sources(d, "omni");
+  ASSERT_EQ(s.size(), 2u);
+  EXPECT_EQ(s[0].object, "box");
+  EXPECT_EQ(s[0].service, "bodies");
+  EXPECT_EQ(s[0].rate_hz, 1000);
+  EXPECT_EQ(s[1].object, "liver");
+  EXPECT_EQ(s[1].rate_hz, 500);
+  ASSERT_EQ(force_sources(d, "phantom").size(), 1u);
+  EXPECT_EQ(force_sources(d, "phantom")[0].service, "other");
+}
 
 TEST(Deployment, SecurityDirIsTakenFromTheFilesFolder) {
   const std::string f = write_file("secure.yaml", "security: {dir: ../keys}\n");
