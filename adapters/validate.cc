@@ -95,7 +95,8 @@ Problem validate(const ForceFeedback& s) {
     if (auto q = check(("jacobian[" + std::to_string(i) + "]").c_str(), s.jacobian()[i], kMaxStiffnessNpm)) return q;
   if (s.valid_radius_m() < 0) return std::string("valid_radius_m is negative");
   const double n = std::hypot(s.normal().x(), s.normal().y(), s.normal().z());
-  if (n != 0 && std::abs(n - 1) > 1e-6) return "normal is neither zero nor a unit vector (length " + std::to_string(n) + ")";
+  if (n != 0 && std::abs(n - 1) > 1e-6)
+    return "normal is neither zero nor a unit vector (length " + std::to_string(n) + ")";
   return std::nullopt;
 }
 

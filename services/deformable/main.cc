@@ -261,7 +261,8 @@ int run(int argc, char** argv) {
   for (const Item& it : items)
     std::printf("%s: %llu ticks in contact, max force %.3f N, %llu meshes published\n", it.name.c_str(),
                 static_cast<unsigned long long>(it.contacts), it.max_force, static_cast<unsigned long long>(it.frames));
-  std::printf("%s: haptic answer (all objects) p50 %.1f us p99 %.1f us over %zu states; behavior p50 %.1f us p99 %.1f us; "
+  std::printf("%s: haptic answer (all objects) p50 %.1f us p99 %.1f us over %zu states; "
+              "behavior p50 %.1f us p99 %.1f us; "
               "visual frame (all objects) p50 %.2f ms p99 %.2f ms, %llu shed (worker busy)\n",
               svc.options().name.c_str(), answer_us.percentile(0.5), answer_us.percentile(0.99), answer_us.size(),
               behavior_us.percentile(0.5), behavior_us.percentile(0.99),

@@ -178,7 +178,8 @@ int run(int argc, char** argv) {
         });
         if (all_in(group) || stop_requested()) break;
         if (mono_ns() > deadline)
-          throw std::runtime_error(name + ": step " + std::to_string(tick.step) + ": the sources of its group did not answer in " +
+          throw std::runtime_error(name + ": step " + std::to_string(tick.step) +
+                                   ": the sources of its group did not answer in " +
                                    std::to_string(int(kGroupWaitS)) + " s");
         in.wait(std::chrono::milliseconds(100));
       }

@@ -63,7 +63,8 @@ std::string apply(const Scheduling& s) {
     CPU_ZERO(&set);
     CPU_SET(s.cpu, &set);
     const int e = pthread_setaffinity_np(pthread_self(), sizeof set, &set);
-    out += e == 0 ? ", cpu " + std::to_string(s.cpu) : ", not pinned to cpu " + std::to_string(s.cpu) + " (" + std::strerror(e) + ")";
+    out += e == 0 ? ", cpu " + std::to_string(s.cpu)
+                  : ", not pinned to cpu " + std::to_string(s.cpu) + " (" + std::strerror(e) + ")";
   }
   return out;
 }
