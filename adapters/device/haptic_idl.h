@@ -37,6 +37,10 @@ struct Feel {
   double radius = 0;                                   // m, where the expansion holds
 };
 
+// How far from the answered HIP a device may trust a contact's local
+// model: a few ticks of a fast hand (0.5 m/s for 4 ms).
+inline constexpr double kContactModelRadius = 0.002;  // m
+
 // A penalty contact's feel: `force` at `position`, stiffness k along the
 // unit `normal` (haptic::contact_model), trusted within `radius`.
 Feel contact_feel(const Eigen::Vector3d& force, const Eigen::Vector3d& position, const Eigen::Vector3d& normal,

@@ -11,17 +11,23 @@ ForceSum::ForceSum(double timeout_s) : timeout_(timeout_s) {
 
 void ForceSum::set(const std::string& source, const LocalModel& model, double t) { latest_[source] = {model, t}; }
 
-Eigen::Vector3d ForceSum::total(double t, const Eigen::Vector3d& x) {
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+void ForceSum::expire(double t) {
   for (auto it = latest_.begin(); it != latest_.end();) {
     if (t - it->second.t > timeout_) {
       it = latest_.erase(it);
       ++expired_;
-      continue;
+    } else {
+      ++it;
     }
-    it->second.rendered = evaluate(it->second.model, x);
-    sum += it->second.rendered;
-    ++it;
+  }
+}
+
+Eigen::Vector3d ForceSum::total(double t, const Eigen::Vector3d& x) {
+  expire(t);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (auto& [name, l] : latest_) {
+    l.rendered = evaluate(l.model, x);
+    sum += l.rendered;
   }
   return sum;
 }

@@ -22,9 +22,10 @@ class ForceSum {
   // The latest model from `source`, arrived at time t (s).
   void set(const std::string& source, const LocalModel& model, double t);
 
+  // Drops the sources older than the timeout at time t, counted in expired().
+  void expire(double t);
   // Sum over the sources still fresh at time t of their models at x (m,
-  // world); sources older than the timeout are dropped and counted in
-  // expired(). Each source's share is left in force_of().
+  // world), after expire(t). Each source's share is left in force_of().
   Eigen::Vector3d total(double t, const Eigen::Vector3d& x);
 
   std::size_t sources() const { return latest_.size(); }  // fresh at the last total()

@@ -78,10 +78,9 @@ std::unique_ptr<deformable::Object> make_object(const Params& o, const std::stri
 // What the device feels from one object's touch, with the local model it
 // renders until the next answer: stiffness along the face's normal (in a
 // grab the object pulls, so no one-sided test).
-constexpr double kModelRadius = 0.002;  // m: a few ticks of a fast hand
 device::Feel feel(const deformable::Touch& t, const Eigen::Vector3d& hip, bool grab) {
   if (!t.in_contact) return device::Feel{};
-  device::Feel f = device::contact_feel(t.force, hip, t.normal, t.stiffness, t.depth, kModelRadius);
+  device::Feel f = device::contact_feel(t.force, hip, t.normal, t.stiffness, t.depth, device::kContactModelRadius);
   if (grab) f.normal.setZero();
   return f;
 }

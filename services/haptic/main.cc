@@ -14,7 +14,6 @@
 #include <map>
 #include <memory>
 #include <optional>
-#include <set>
 #include <vector>
 
 #include "device/haptic_idl.h"
@@ -120,9 +119,9 @@ int run(int argc, char** argv) {
   // the deployment names at this rate are the Gauss-Seidel group, waited
   // for from the first step.
   const std::string name = svc.options().name;
-  std::set<std::string> group;
+  std::vector<std::string> group;
   for (const ForceSource& fs : force_sources(svc.deployment(), name))
-    if (fs.rate_hz == svc.options().rate_hz) group.insert(fs.object);
+    if (fs.rate_hz == svc.options().rate_hz) group.push_back(fs.object);
   const bool lockstep = svc.options().mode == Mode::kLockstep;
 
   Writer<HapticState> out(svc.participant());
@@ -136,12 +135,19 @@ int run(int argc, char** argv) {
   std::uint64_t modelled = 0;                   // source-ticks rendered from a local model (the answer was late)
   double peak = 0;                              // N, largest force rendered
   std::map<std::string, std::uint64_t> newest;  // per source, the newest state answered
-  std::set<std::string> answered;               // sources that answered this tick's state
+  // Sources that answered this tick's state, and those it waits for
+  // (reused: no allocation per tick; names fit in a short string).
+  std::vector<std::string> answered, expected;
   std::vector<ForceFeedback> deferred;          // lockstep: this step's answers from outside the group
+  const auto has = [](const std::vector<std::string>& v, const std::string& x) {
+    return std::find(v.begin(), v.end(), x) != v.end();
+  };
   const auto handle = [&](const ForceFeedback& s, double now) {
     const std::string from = s.source().to_string();
     rtt.answered(s.answers_seq(), mono_ns());
-    if (s.answers_seq() == seq) answered.insert(from);
+    if (s.answers_seq() == seq) {
+      if (!has(answered, from)) answered.push_back(from);
+    }
     // A late answer: what the user felt in its place, against it.
     else if (const auto r = rendered.at(from, s.answers_seq())) error_n.add((device::from_idl(s.force()) - *r).norm());
     auto [it, fresh] = newest.try_emplace(from, s.answers_seq());
@@ -150,8 +156,8 @@ int run(int argc, char** argv) {
     sum.set(from, device::local_model(s), now);
   };
   const auto mine = [&](const ForceFeedback& s) { return s.device().to_string() == name; };
-  const auto all_in = [&](const std::set<std::string>& want) {
-    return std::includes(answered.begin(), answered.end(), want.begin(), want.end());
+  const auto all_in = [&](const std::vector<std::string>& want) {
+    return std::all_of(want.begin(), want.end(), [&](const std::string& x) { return has(answered, x); });
   };
   const int status = svc.run([&](const Tick& tick) {
     jitter_us.add(tick.late_us);
@@ -162,18 +168,18 @@ int run(int argc, char** argv) {
     rtt.sent(seq, sent);
     out.write(hs);
     answered.clear();
-    std::set<std::string> expected;
-    if (lockstep && !group.empty()) {
+    expected.clear();
+    const bool gauss_seidel = lockstep && !group.empty();
+    if (gauss_seidel) {
       // Gauss-Seidel: this step's state went out; the group answers it
       // within the step, and the force rendered now is theirs.
       for (const ForceFeedback& s : deferred) handle(s, now);
       deferred.clear();
-      expected = group;
       const std::int64_t deadline = sent + std::int64_t(kGroupWaitS * 1e9);
       for (;;) {
         in.take_before(tick.step + 1, [&](const ForceFeedback& s) {
           if (!mine(s)) return;
-          if (s.stamp().step() == tick.step && !group.count(s.source().to_string())) deferred.push_back(s);
+          if (s.stamp().step() == tick.step && !has(group, s.source().to_string())) deferred.push_back(s);
           else handle(s, now);
         });
         if (all_in(group) || stop_requested()) break;
@@ -192,9 +198,9 @@ int run(int argc, char** argv) {
       take();
       // In lockstep outside a group, this tick's answers belong to the next
       // tick: no wait.
-      sum.total(now, f.position);  // drops sources silent for source_timeout
+      sum.expire(now);
       for (const auto& [from, last] : newest)
-        if (sum.has(from)) expected.insert(from);
+        if (sum.has(from)) expected.push_back(from);
       const std::int64_t deadline = sent + std::int64_t(lockstep ? 0 : answer_wait * 1e9);
       while (!all_in(expected) && mono_ns() < deadline && in.wait(std::chrono::nanoseconds(deadline - mono_ns())))
         take();
@@ -205,7 +211,8 @@ int run(int argc, char** argv) {
       rendered.put(from, seq, sum.force_of(from));
       modelled += last != seq;
     }
-    if (!expected.empty()) ++with_sources, in_tick += all_in(expected);
+    const std::vector<std::string>& waited = gauss_seidel ? group : expected;
+    if (!waited.empty()) ++with_sources, in_tick += all_in(waited);
     peak = std::max(peak, env.norm());
     applied = omni.end_frame(passivity ? pc.filter(env, f.velocity, applied) : env);
     if (seq % 1000 == 999)

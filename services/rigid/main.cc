@@ -35,9 +35,6 @@ constexpr double kParkedTipZ = 1.0;
 constexpr double kStaleState = 0.02;  // s
 // A sleeping body's state is repeated this often, for late subscribers.
 constexpr double kSleepingRepeat = 0.2;  // s
-// How far from the answered HIP the device may trust a contact's local
-// model (a few ticks of a fast hand).
-constexpr double kModelRadius = 0.002;  // m
 
 struct Item {
   std::string name;
@@ -159,7 +156,7 @@ int run(int argc, char** argv) {
         const Eigen::Vector3d n = depth > 0 ? Eigen::Vector3d(d / depth) : Eigen::Vector3d::Zero();
         const Eigen::Vector3d fk = rigid::proxy_force(proxy, h, stiffness, max_force);
         const bool clamped = stiffness * depth > max_force;
-        f = device::contact_feel(fk, h, n, clamped ? 0.0 : stiffness, depth, kModelRadius);
+        f = device::contact_feel(fk, h, n, clamped ? 0.0 : stiffness, depth, device::kContactModelRadius);
       }
       tip.v = device::from_idl(s.velocity());
       set_tip(tip);
@@ -185,6 +182,7 @@ int run(int argc, char** argv) {
   bool have = false;
   double state_time = 0;  // s, lockstep: the simulated time `latest` arrived
   Window step_us(1 << 16);
+  std::vector<rigid::Body> now_bodies;  // the bodies after this tick's step (reused: no allocation per tick)
   std::uint64_t hits = 0;                // tip impulses of the analytic model
   double worst[4] = {0, 0, 0, 0};        // max divergences
   const int status = svc.run([&](const Tick& tick) {
@@ -201,7 +199,7 @@ int run(int argc, char** argv) {
       }
     }
     const std::int64_t t0 = mono_ns();
-    std::vector<rigid::Body> now_bodies;
+    now_bodies.clear();
     {
       std::lock_guard<PiMutex> l(scene);
       // A device silent for longer than kStaleState no longer moves the

@@ -58,7 +58,6 @@ struct Rejections {
   std::string last;  // "Topic: reason"
 };
 
-// Writes samples of T on TopicOf<T>::name with a named QoS profile.
 // The readers a writer has matched (Fast DDS 2.9.1 leaves
 // get_matched_subscriptions unimplemented), kept from its match events.
 struct Matches : eprosima::fastdds::dds::DataWriterListener {
@@ -72,6 +71,7 @@ struct Matches : eprosima::fastdds::dds::DataWriterListener {
   std::vector<eprosima::fastrtps::rtps::InstanceHandle_t> readers;
 };
 
+// Writes samples of T on TopicOf<T>::name with a named QoS profile.
 template <class T>
 class Writer {
  public:

@@ -54,9 +54,10 @@ inline StepStamp answer_stamp(const HapticState& s) {
   return st;
 }
 
-// Whether a source at `rate_hz` steps with `device` in one Gauss-Seidel
-// group: a lockstep deployment that runs that haptic service at the same
-// rate. Otherwise its answers follow the Jacobi scheme (one step behind).
+// Whether this service steps with `device` in one Gauss-Seidel group: a
+// lockstep deployment that runs that haptic service at this service's
+// rate (the device's side: force_sources at its rate). Otherwise its
+// answers follow the Jacobi scheme (one step behind).
 inline bool in_haptic_group(const Service& svc, const std::string& device) {
   if (svc.options().mode != Mode::kLockstep) return false;
   for (const ServiceSpec& s : svc.deployment().services)
