@@ -23,8 +23,9 @@ limit 30 "$BIN/hcosim" up "$WORK/up.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1
 grep -q "duration reached" "$WORK/up.log" || fail "up did not run to its duration"
 grep -qE "^hcosim up: every service joined domain $DOMAIN in [0-9.]+ s$" "$WORK/up.log" ||
   fail "up did not report the services joining: $(cat "$WORK/up.log")"
-# The progress line: simulated time, pace, and every service's rate and overruns.
-grep -qE "^sim [0-9.]+ s, real-time factor (0\.9|1\.0)[0-9] \| src [0-9]+ Hz, [0-9]+ overruns \| wall [0-9]+ Hz, [0-9]+ overruns$" \
+# The progress line: simulated time, pace, and every service's rate and
+# overruns (and the outputs it shed, once it has shed some).
+grep -qE "^sim [0-9.]+ s, real-time factor (0\.9|1\.0)[0-9] \| src [0-9]+ Hz, [0-9]+ overruns(, [0-9]+ shed)? \| wall [0-9]+ Hz, [0-9]+ overruns(, [0-9]+ shed)?$" \
   "$WORK/up.log" || fail "no progress line with both services: $(cat "$WORK/up.log")"
 line=$(grep "probe src:" "$WORK/out/logs/src.log") || fail "no summary from src"
 sent=$(echo "$line" | sed -nE 's/.*sent ([0-9]+).*/\1/p')
