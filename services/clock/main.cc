@@ -15,6 +15,10 @@ using namespace hcosim::rt;
 namespace {
 
 constexpr double kJoinTimeoutS = 30.0;
+// A follower that says it is starting (building its model, which under a
+// sanitizer or for a large mesh takes more than kJoinTimeoutS) is waited
+// for this long instead, as `hcosim up` waits for it.
+constexpr double kStartTimeoutS = 120.0;
 constexpr double kStepTimeoutS = 10.0;
 
 std::string names(const std::set<std::string>& s) {
@@ -35,12 +39,20 @@ int run_clock(Options options) {
   const std::size_t n = followers.size();
 
   // Start only when every follower can hear tick 0 and answer it.
-  const std::int64_t join_deadline = mono_ns() + std::int64_t(kJoinTimeoutS * 1e9);
+  Reader<ServiceStatus> status = svc.reader<ServiceStatus>();
+  std::set<std::string> starting;  // followers whose latest status says "starting"
+  const std::int64_t t0 = mono_ns();
   while (ticks.matched() < int(n) || done.matched() < int(n)) {
     if (stop_requested()) return 0;
-    if (mono_ns() > join_deadline) {
-      std::cerr << "clock: after " << kJoinTimeoutS << " s only " << done.matched() << " of " << n
-                << " followers joined (" << names(followers) << ")\n";
+    status.take([&](const ServiceStatus& s) {
+      if (s.state().to_string() == "starting") starting.insert(s.service().to_string());
+      else starting.erase(s.service().to_string());
+    });
+    const double waited = (mono_ns() - t0) * 1e-9;
+    const double limit = starting.empty() ? kJoinTimeoutS : kStartTimeoutS;
+    if (waited > limit) {
+      std::cerr << "clock: after " << limit << " s only " << done.matched() << " of " << n << " followers joined ("
+                << names(followers) << ")" << (starting.empty() ? "" : "; still starting: " + names(starting)) << "\n";
       return 1;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
