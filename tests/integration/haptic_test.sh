@@ -21,6 +21,7 @@ services:
   - name: wall
     kind: test_probe
     rate: 1000
+    priority: 30  # a force source, as the rigid and deformable kinds are by default
     params: {role: wall, stiffness: 500, nan_every: 50}
 YAML
 start state "$BIN/hcosim" echo HapticState --count 0 --timeout 6
