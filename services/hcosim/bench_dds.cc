@@ -548,7 +548,8 @@ Suite dds_suite() {
               {"impl", "bare"}},
              {"mesh_pub", "vertices", "cpu_pct", "vertices per mesh", "CPU (% of one core)", {"impl", "subscribers"}, {},
               {"impl", "bare"}}};
-  s.goals = {{"no sample lost with reliable QoS", "mesh_pub", "loss_ratio", 0},
+  // Bare Fast DDS's own losses are the baseline's, reported beside ours.
+  s.goals = {{"no sample lost with reliable QoS", "mesh_pub", "loss_ratio", 0, "impl", "hcosim"},
              {"hcosim's p99 within 1.2 times bare Fast DDS's", "mesh_pub", "p99_ratio_to_bare", 1.2, "impl", "hcosim"}};
   return s;
 }
