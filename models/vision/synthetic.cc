@@ -61,6 +61,28 @@ SyntheticCamera::SyntheticCamera(const Intrinsics& k, const Marker& m) : k_(k), 
   }
 }
 
+cv::Rect SyntheticCamera::footprint(const Eigen::Matrix3d& H) const {
+  const cv::Rect whole(0, 0, k_.width, k_.height);
+  // A texel's bilinear reach is one texel past the texture's edge.
+  const double w = texture_.cols, hgt = texture_.rows;
+  double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+  for (const Eigen::Vector3d& c : {Eigen::Vector3d(-1, -1, 1), Eigen::Vector3d(w, -1, 1), Eigen::Vector3d(w, hgt, 1),
+                                   Eigen::Vector3d(-1, hgt, 1)}) {
+    const Eigen::Vector3d q = H * c;
+    // A sheet reaching behind the camera has no bounded footprint.
+    if (!(q.z() > 1e-9)) return whole;
+    x0 = std::min(x0, q.x() / q.z()), x1 = std::max(x1, q.x() / q.z());
+    y0 = std::min(y0, q.y() / q.z()), y1 = std::max(y1, q.y() / q.z());
+  }
+  // Supersampled pixels, one more on each side, then whole output pixels.
+  const double ss = kSupersample;
+  const double lx = std::floor((x0 - 1) / ss), ly = std::floor((y0 - 1) / ss);
+  const double hx = std::ceil((x1 + 2) / ss), hy = std::ceil((y1 + 2) / ss);
+  const auto clamp = [](double v, int hi) { return int(std::clamp(v, 0.0, double(hi))); };
+  const int ax = clamp(lx, k_.width), ay = clamp(ly, k_.height), bx = clamp(hx, k_.width), by = clamp(hy, k_.height);
+  return cv::Rect(ax, ay, bx - ax, by - ay) & whole;
+}
+
 cv::Mat SyntheticCamera::render(const Eigen::Isometry3d& pose, const Conditions& c, std::uint64_t seed) const {
   if (!pose.matrix().allFinite() || pose.translation().z() <= 0)
     throw std::invalid_argument("synthetic camera: the tag must be finite and in front of the camera");
@@ -74,13 +96,23 @@ cv::Mat SyntheticCamera::render(const Eigen::Isometry3d& pose, const Conditions&
   const double ss = kSupersample, o = 0.5 * (ss - 1);
   const Eigen::Matrix3d T = (Eigen::Matrix3d() << ss, 0, o, 0, ss, o, 0, 0, 1).finished();
   const Eigen::Matrix3d H = T * K * P * A;
-  cv::Matx33d h;
-  for (int r = 0; r < 3; ++r)
-    for (int col = 0; col < 3; ++col) h(r, col) = H(r, col);
-  cv::Mat big, frame;
-  cv::warpPerspective(texture_, big, h, cv::Size(k_.width * kSupersample, k_.height * kSupersample), cv::INTER_LINEAR,
-                      cv::BORDER_CONSTANT, cv::Scalar(kBackground));
-  cv::resize(big, frame, cv::Size(k_.width, k_.height), 0, 0, cv::INTER_AREA);
+  cv::Mat frame(k_.height, k_.width, CV_8U, cv::Scalar(kBackground));
+  // Only the sheet's footprint is warped and averaged down: the rest of
+  // the frame is background, and the full supersampled warp cost most of
+  // a core at 25 Hz (docs/tracking.md). The footprint is aligned to whole
+  // output pixels, so each averaged block is the same as in a full warp.
+  const cv::Rect out = footprint(H);
+  if (!out.empty()) {
+    const cv::Rect in(out.x * kSupersample, out.y * kSupersample, out.width * kSupersample, out.height * kSupersample);
+    const Eigen::Matrix3d shift = (Eigen::Matrix3d() << 1, 0, -in.x, 0, 1, -in.y, 0, 0, 1).finished();
+    const Eigen::Matrix3d Hs = shift * H;
+    cv::Matx33d h;
+    for (int r = 0; r < 3; ++r)
+      for (int col = 0; col < 3; ++col) h(r, col) = Hs(r, col);
+    cv::Mat big;
+    cv::warpPerspective(texture_, big, h, in.size(), cv::INTER_LINEAR, cv::BORDER_CONSTANT, cv::Scalar(kBackground));
+    cv::resize(big, frame(out), out.size(), 0, 0, cv::INTER_AREA);
+  }
   if (!map_x_.empty()) {
     cv::Mat distorted;
     cv::remap(frame, distorted, map_x_, map_y_, cv::INTER_LINEAR, cv::BORDER_CONSTANT, cv::Scalar(kBackground));

@@ -54,6 +54,10 @@ class SyntheticCamera {
   const Marker& marker() const { return m_; }
 
  private:
+  // The output pixels the sheet can touch under the supersampled
+  // homography H (texel to supersampled pixel).
+  cv::Rect footprint(const Eigen::Matrix3d& H) const;
+
   Intrinsics k_;
   Marker m_;
   cv::Mat texture_;                 // the sheet, CV_8U

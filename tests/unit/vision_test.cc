@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 #include "vision/detector.h"
 #include "vision/pose.h"
@@ -122,6 +123,50 @@ TEST(Vision, LensDistortionIsModelled) {
   EXPECT_LT(max_corner_error(found[0], cam.corners(truth)), 0.35);
   const TagPose p = estimate_pose(found[0].corners, 0.05, k);
   EXPECT_LT((p.tag_in_camera.translation() - truth.translation()).norm(), 0.002 * 0.3);
+}
+
+// The render warps only the sheet's footprint: over poses near and far,
+// some with the sheet past the frame's edge, every pixel 1.5 px outside the
+// sheet's outline is one background grey and every one 1.5 px inside it, off
+// the tag, is the sheet's white (nothing of the sheet is cut off).
+TEST(Vision, TheSheetIsDrawnWholeAndNothingElse) {
+  const Intrinsics k = synthetic_intrinsics(640, 480);
+  const Marker m;  // a sheet of 2 tag sizes: its edge at +-tag_size
+  const SyntheticCamera cam(k, m);
+  const auto outline = [&](const Eigen::Isometry3d& pose, double half) {
+    std::vector<cv::Point2f> q;
+    for (const Eigen::Vector3d& c : {Eigen::Vector3d(-half, -half, 0), Eigen::Vector3d(half, -half, 0),
+                                     Eigen::Vector3d(half, half, 0), Eigen::Vector3d(-half, half, 0)}) {
+      const Eigen::Vector2d p = project(k, pose, c);
+      q.emplace_back(float(p.x()), float(p.y()));
+    }
+    return q;
+  };
+  // The tag's own white margin reaches 10/8 of its black border.
+  const double sheet = m.tag_size, margin = 0.5 * m.tag_size * 10 / 8;
+  std::vector<Eigen::Isometry3d> poses = random_poses(k, m.tag_size, 12, 5, 0.12, 0.9);
+  poses.push_back(tilted(0.1, 0, 0, 0.03));  // the sheet past the left edge
+  for (const Eigen::Isometry3d& pose : poses) {
+    const cv::Mat f = cam.render(pose);
+    const std::vector<cv::Point2f> s = outline(pose, sheet), t = outline(pose, margin);
+    int outside = 0, inside = 0, background = -1;
+    for (int y = 0; y < f.rows; ++y)
+      for (int x = 0; x < f.cols; ++x) {
+        const cv::Point2f px{float(x), float(y)};
+        const double ds = cv::pointPolygonTest(s, px, true), dt = cv::pointPolygonTest(t, px, true);
+        if (ds < -1.5) {
+          ++outside;
+          if (background < 0) background = f.at<std::uint8_t>(y, x);
+          ASSERT_EQ(f.at<std::uint8_t>(y, x), background) << "pixel " << x << "," << y << " outside the sheet";
+        } else if (ds > 1.5 && dt < -1.5) {
+          ++inside;
+          ASSERT_GE(f.at<std::uint8_t>(y, x), 200) << "pixel " << x << "," << y << " on the sheet";
+        }
+      }
+    EXPECT_GT(outside, 0);
+    EXPECT_LT(background, 200);
+    EXPECT_GT(inside, 100);
+  }
 }
 
 TEST(Vision, RandomPosesKeepTheirRangesAndSeed) {
