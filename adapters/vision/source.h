@@ -1,6 +1,7 @@
 // Camera sources: where the tracker's frames come from. An image folder
 // (files sorted by name), a video file, or a live V4L2 camera, all through
-// OpenCV; and the synthetic camera, whose every frame has a known pose.
+// OpenCV in the capture module (vision/capture.h), loaded by the first of
+// them opened; and the synthetic camera, whose every frame has a known pose.
 #pragma once
 
 #include <cstdint>

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 namespace hcosim::render {
@@ -31,8 +30,8 @@ std::string tick_label(double v, double step) {
 
 }  // namespace
 
-void plot_scatter(const std::string& path, const std::string& title, const std::string& x_label,
-                  const std::string& y_label, const std::vector<Series>& series, Axes axes) {
+cv::Mat plot_scatter(const std::string& title, const std::string& x_label, const std::string& y_label,
+                     const std::vector<Series>& series, Axes axes) {
   const int w = 1100, h = 700, left = 90, right = 300, top = 50, bottom = 70;
   cv::Mat img(h, w, CV_8UC3, cv::Scalar(255, 255, 255));
   // Positions along each axis: log10 of the value on a log axis.
@@ -48,7 +47,7 @@ void plot_scatter(const std::string& path, const std::string& title, const std::
         x0 = std::min(x0, fx(s.x[i])), x1 = std::max(x1, fx(s.x[i]));
         y0 = std::min(y0, fy(s.y[i])), y1 = std::max(y1, fy(s.y[i]));
       }
-  if (!std::isfinite(x0)) throw std::runtime_error("plot " + path + ": no point to draw");
+  if (!std::isfinite(x0)) throw std::runtime_error("plot '" + title + "': no point to draw");
   // Whole decades on a log axis; round ticks with zero in view on a linear one.
   struct Ticks {
     double lo, hi, step;
@@ -113,12 +112,11 @@ void plot_scatter(const std::string& path, const std::string& title, const std::
     mark({w - right + 20, ly - 5});
     cv::putText(img, s.label, {w - right + 32, ly}, kFont, 0.42, kInk, 1, cv::LINE_AA);
   }
-  if (!cv::imwrite(path, img)) throw std::runtime_error("plot: cannot write " + path);
+  return img;
 }
 
-void plot_series(const std::string& path, const std::string& title, const std::string& x_label,
-                 const std::vector<Panel>& panels) {
-  if (panels.empty()) throw std::invalid_argument("plot " + path + ": no panels");
+cv::Mat plot_series(const std::string& title, const std::string& x_label, const std::vector<Panel>& panels) {
+  if (panels.empty()) throw std::invalid_argument("plot '" + title + "': no panels");
   const int w = 1000, left = 90, right = 200, top = 70, bottom = 60, panel_h = 260, gap = 40;
   const int h = top + bottom + int(panels.size()) * panel_h + int(panels.size() - 1) * gap;
   cv::Mat img(h, w, CV_8UC3, cv::Scalar(255, 255, 255));
@@ -180,7 +178,7 @@ void plot_series(const std::string& path, const std::string& title, const std::s
     }
   }
   cv::putText(img, x_label, {left + (w - left - right) / 2 - 40, h - 15}, kFont, 0.55, kInk, 1, cv::LINE_AA);
-  if (!cv::imwrite(path, img)) throw std::runtime_error("plot: cannot write " + path);
+  return img;
 }
 
 }  // namespace hcosim::render

@@ -1,9 +1,11 @@
-// Plots as PNG, drawn with OpenCV: scatter plots for bench reports, and
-// time series for run reports.
+// Plots drawn with OpenCV, as BGR images (written as PNG by their callers):
+// scatter plots for bench reports, and time series for run reports.
 #pragma once
 
 #include <string>
 #include <vector>
+
+#include <opencv2/core.hpp>
 
 namespace hcosim::render {
 
@@ -18,10 +20,9 @@ struct Axes {
   bool log_x = true, log_y = true;
 };
 
-// Writes a PNG at `path`, one colour per series. Throws std::runtime_error
-// when no point can be drawn or the file cannot be written.
-void plot_scatter(const std::string& path, const std::string& title, const std::string& x_label,
-                  const std::string& y_label, const std::vector<Series>& series, Axes axes = {});
+// One colour per series. Throws std::runtime_error when no point can be drawn.
+cv::Mat plot_scatter(const std::string& title, const std::string& x_label, const std::string& y_label,
+                     const std::vector<Series>& series, Axes axes = {});
 
 // Panels stacked over one shared x axis, linear scales, one line per series.
 struct Panel {
@@ -29,9 +30,7 @@ struct Panel {
   std::vector<Series> series;   // non-finite points are skipped
 };
 
-// Writes a PNG at `path`. Throws std::runtime_error when the file cannot be
-// written, std::invalid_argument when there are no panels.
-void plot_series(const std::string& path, const std::string& title, const std::string& x_label,
-                 const std::vector<Panel>& panels);
+// Throws std::invalid_argument when there are no panels.
+cv::Mat plot_series(const std::string& title, const std::string& x_label, const std::vector<Panel>& panels);
 
 }  // namespace hcosim::render

@@ -11,14 +11,13 @@
 #include <map>
 #include <optional>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/videoio.hpp>
 
 #include "render/ar_idl.h"
 #include "render/plot.h"
 #include "rigid/body.h"
 #include "service.h"
+#include "vision/media.h"
 #include "vision/vision_idl.h"
 
 using namespace hcosim;
@@ -83,16 +82,18 @@ void write_plots(const fs::path& dir, const std::map<std::string, Trace>& traces
   fs::create_directories(dir);
   render::Panel all_force{"force on the stylus (N)", {}}, all_depth{"penetration (mm)", {}};
   for (const auto& [name, tr] : traces) {
-    render::plot_series((dir / (name + ".png")).string(), name + ": force and penetration against simulated time",
-                        "simulated time (s)",
-                        {{"force on the stylus (N)", {{name, tr.t, tr.force}}},
-                         {"penetration (mm)", {{name, tr.t, tr.depth_mm}}}});
+    vision::write_image((dir / (name + ".png")).string(),
+                        render::plot_series(name + ": force and penetration against simulated time",
+                                            "simulated time (s)",
+                                            {{"force on the stylus (N)", {{name, tr.t, tr.force}}},
+                                             {"penetration (mm)", {{name, tr.t, tr.depth_mm}}}}));
     all_force.series.push_back({name, tr.t, tr.force});
     all_depth.series.push_back({name, tr.t, tr.depth_mm});
   }
   if (!traces.empty())
-    render::plot_series((dir / "all.png").string(), "every object: force and penetration against simulated time",
-                        "simulated time (s)", {all_force, all_depth});
+    vision::write_image((dir / "all.png").string(),
+                        render::plot_series("every object: force and penetration against simulated time",
+                                            "simulated time (s)", {all_force, all_depth}));
 }
 
 int run(int argc, char** argv) {
@@ -133,7 +134,7 @@ int run(int argc, char** argv) {
   std::optional<HapticState> stylus;
   std::optional<MarkerPose> pose;
   std::optional<std::uint64_t> last_frame;
-  cv::VideoWriter video;
+  std::optional<vision::VideoOut> video;
   cv::Mat composite;
   std::size_t next_snapshot = 0;
   Window render_ms(1 << 16), cover_pct(1 << 16);
@@ -197,24 +198,20 @@ int run(int argc, char** argv) {
                   cv::Scalar(255, 255, 255), 2, cv::LINE_AA);
       ++rendered;
       if (!video_path.empty()) {
-        if (!video.isOpened() &&
-            !video.open(video_path.string(), cv::VideoWriter::fourcc('m', 'p', '4', 'v'), fps,
-                        composite.size()))
-          throw std::runtime_error("cannot write the video " + video_path.string() +
-                                   " (OpenCV has no MPEG-4 encoder, or the folder is not writable)");
+        if (!video) video.emplace(video_path.string(), "mp4v", fps, composite.size());
         // A skipped frame repeats the one before it, so the video keeps the camera's time.
-        for (std::uint64_t k = 0; k <= gap; ++k) video.write(composite), ++written;
+        for (std::uint64_t k = 0; k <= gap; ++k) video->write(composite), ++written;
       }
       for (; next_snapshot < snapshots.size() && t + 1e-9 >= snapshots[next_snapshot]; ++next_snapshot) {
         const fs::path png = out / "snapshots" / ("ar_" + seconds(snapshots[next_snapshot]) + ".png");
         fs::create_directories(png.parent_path());
-        if (!cv::imwrite(png.string(), composite)) throw std::runtime_error("cannot write " + png.string());
+        vision::write_image(png.string(), composite);
         pictures.push_back(png.string());
       }
       render_ms.add((mono_ns() - t0) * 1e-6);
     });
   });
-  video.release();
+  video.reset();  // closes the file before it is named below
   std::printf("%s: %llu frames drawn, %llu skipped (late, or never sent), %llu drawn with the previous frame's marker pose, %llu "
               "without any (no overlay); drawing p50 %.2f ms p99 %.2f ms; the objects cover p50 %.1f%% of a frame\n",
               name.c_str(), (unsigned long long)rendered, (unsigned long long)skipped, (unsigned long long)stale_pose,

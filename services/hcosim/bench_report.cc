@@ -20,6 +20,7 @@
 
 #include "bench.h"
 #include "render/plot.h"
+#include "vision/media.h"
 
 namespace fs = std::filesystem;
 
@@ -148,7 +149,7 @@ std::vector<Figure> draw_plots(const Suite& s, const std::vector<Row>& rows, con
       const fs::path file = dir / (stem + ".png");
       // The axes name the quantities; the title only says which rows.
       const std::string title = std::string(s.name) + " " + p.row + (group.empty() ? "" : ", " + group);
-      render::plot_scatter(file.string(), title, p.x_label, p.y_label, series, {p.log_x, p.log_y});
+      vision::write_image(file.string(), render::plot_scatter(title, p.x_label, p.y_label, series, {p.log_x, p.log_y}));
       std::cout << "wrote " << file.string() << "\n";
       out.push_back({p.row, file, title + ": " + p.y_label + " against " + p.x_label});
     }
