@@ -99,6 +99,13 @@ Suite arview_suite();
 // The default deployment for half an hour: bench_soak.cc.
 Suite soak_suite();
 
+// deploy/default.yaml's scene and services in real time on `domain`, its
+// tour repeated to last `seconds`, for `duration` s (0: until stopped), the
+// device's closing report written to `device_report` when one is named;
+// written into `dir` (its deploy.yaml, returned).
+std::filesystem::path default_deployment(const std::filesystem::path& dir, int domain, double seconds,
+                                         double duration, const std::filesystem::path& device_report = {});
+
 // The DDS transport: haptic round trips and mesh publishing against bare
 // Fast DDS: bench_dds.cc.
 Suite dds_suite();
@@ -110,12 +117,14 @@ struct Rtt {
 };
 
 // A peer process answering HapticState with ForceFeedback: `impl` "bare"
-// (Fast DDS alone) or "hcosim" (the service runtime).
-pid_t start_peer(const std::string& impl, int domain, double seconds);
+// (Fast DDS alone) or "hcosim" (the service runtime), at SCHED_FIFO
+// `priority` (0: the normal scheduler) as far as the system allows.
+pid_t start_peer(const std::string& impl, int domain, double seconds, int priority = 0);
 void stop_peer(pid_t pid);
 
-// Round trips against a bare Fast DDS peer for `seconds`.
-Rtt bare_rtt(int domain, double seconds);
+// Round trips against a bare Fast DDS peer for `seconds`, both ends (and
+// their Fast DDS threads) at `priority`.
+Rtt bare_rtt(int domain, double seconds, int priority = 0);
 
 // Where a suite's plots go: DIR/SUITE_GROUP.png, one per group of each plot.
 struct Figure {

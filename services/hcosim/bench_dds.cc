@@ -39,6 +39,7 @@
 
 #include "bench.h"
 #include "cli.h"
+#include "realtime.h"
 #include "service.h"
 #include "validate.h"
 
@@ -484,12 +485,13 @@ int mesh_reader(const std::string& impl, int domain, int count, const fs::path& 
 
 }  // namespace
 
-pid_t start_peer(const std::string& impl, int domain, double seconds) {
+pid_t start_peer(const std::string& impl, int domain, double seconds, int priority) {
   const std::string self = fs::read_symlink("/proc/self/exe").string();
   const pid_t pid = fork();
   if (pid == 0) {
     execl(self.c_str(), self.c_str(), "bench-peer", "--impl", impl.c_str(), "--domain",
-          std::to_string(domain).c_str(), "--duration", std::to_string(seconds + 30).c_str(), nullptr);
+          std::to_string(domain).c_str(), "--duration", std::to_string(seconds + 30).c_str(), "--priority",
+          std::to_string(priority).c_str(), nullptr);
     _exit(127);
   }
   return pid;
@@ -501,8 +503,10 @@ void stop_peer(pid_t pid) {
   waitpid(pid, &status, 0);
 }
 
-Rtt bare_rtt(int domain, double seconds) {
-  const pid_t peer = start_peer("bare", domain, seconds);
+namespace {
+
+// Round trips from this thread against the bare peer on `domain`.
+Rtt bare_ping(int domain, double seconds) {
   Bare b = Bare::make<HapticState, ForceFeedback>(domain, "HapticState", "ForceFeedback");
   await_match(
       [&] {
@@ -525,9 +529,24 @@ Rtt bare_rtt(int domain, double seconds) {
       },
       [&](HapticState& s) { b.writer->write(&s); });
   destroy(b.participant);
+  return r;
+}
+
+}  // namespace
+
+Rtt bare_rtt(int domain, double seconds, int priority) {
+  const pid_t peer = start_peer("bare", domain, seconds, priority);
+  // On a thread of its own, so that the scheduling (inherited by the
+  // participant's threads, made on it) leaves the bench's others alone.
+  Rtt r;
+  std::thread([&] {
+    rt::apply({priority, -1});
+    r = bare_ping(domain, seconds);
+  }).join();
   stop_peer(peer);
   return r;
 }
+
 
 Suite dds_suite() {
   Suite s{"dds",
@@ -555,8 +574,10 @@ Suite dds_suite() {
 }
 
 int bench_peer(const std::vector<std::string>& argv) {
-  const Args a = parse(argv, {"--impl", "--domain", "--duration", "--role", "--count", "--out"}, {});
+  const Args a = parse(argv, {"--impl", "--domain", "--duration", "--role", "--count", "--out", "--priority"}, {});
   const int domain = domain_of(a);
+  // Before any participant, so that Fast DDS's threads get it too.
+  rt::apply({int(a.whole("--priority", 0, 0, 99)), -1});
   const std::int64_t end = rt::mono_ns() + std::int64_t(a.number("--duration", 60) * 1e9);
   const std::string impl = a.get("--impl", "");
   if (impl != "bare" && impl != "hcosim") throw std::invalid_argument("bench-peer: --impl must be bare or hcosim");

@@ -7,20 +7,30 @@
 // bare_fastdds_rtt: the same payloads and QoS kinds between two processes
 //   using Fast DDS alone, measured in the same run; within_0_8ms_ratio is
 //   the closed loop's on-time test applied to it.
+// deployment: the default scene (deploy/default.yaml's objects, camera and
+//   view) in real time through hcosim up, the device's closing report
+//   (jitter, the share of ticks every source answered within, round trip,
+//   rendered-force error against the run's peak force), and a bare Fast DDS
+//   ping-pong pair at 1 kHz beside it on the next domain, both ends (and
+//   their Fast DDS threads) at the haptic threads' priority.
 // wall: the stiff-wall rig (adapters/device/wall_rig.h) per delay and
 //   stiffness: the largest force output, the device's net work on the tip,
 //   whether the contact settled, the settled depth's error from where the
 //   hand's pull balances the wall, and the largest force over that
 //   balance's force, less 1 (overshoot).
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <fstream>
 #include <regex>
 #include <sstream>
+#include <thread>
 
 #include "bench.h"
+#include "deployment.h"
 #include "device/wall_rig.h"
+#include "service.h"
 
 namespace hcosim::cli {
 namespace {
@@ -72,6 +82,62 @@ Row closed_loop(const Context& c, double seconds) {
            {"ticks", field(json.str(), "ticks")}}};
 }
 
+std::string read_all(const fs::path& file) {
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+Row deployment(const Context& c, double seconds) {
+  const fs::path dir = fs::absolute(c.out / "haptic_deployment");
+  fs::create_directories(dir);
+  const fs::path report = dir / "omni.json", log = dir / "up.log";
+  fs::remove(report);
+  const fs::path file = default_deployment(dir, c.domain, seconds + 10, seconds, report);
+  const std::string self = fs::read_symlink("/proc/self/exe").string();
+  const pid_t up = fork();
+  if (up == 0) {
+    freopen(log.c_str(), "w", stdout);
+    freopen(log.c_str(), "a", stderr);
+    execl(self.c_str(), self.c_str(), "up", file.c_str(), "--out", (dir / "out").c_str(), nullptr);
+    _exit(127);
+  }
+  // The bare pair runs once every service does (the run's duration counts
+  // from then), and ends before it.
+  const std::int64_t deadline = rt::mono_ns() + std::int64_t(120e9);
+  while (read_all(log).find("every service running") == std::string::npos) {
+    if (rt::mono_ns() > deadline || waitpid(up, nullptr, WNOHANG) == up) {
+      kill(up, SIGINT);
+      waitpid(up, nullptr, 0);
+      throw std::runtime_error("bench haptic: the default deployment did not start, see " + log.string());
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  const Rtt bare = bare_rtt(c.domain + 1, std::max(1.0, seconds - 4), rt::kHapticPriority);
+  int status = 0;
+  waitpid(up, &status, 0);
+  const std::string json = read_all(report);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || json.empty())
+    throw std::runtime_error("bench haptic: the default deployment failed (status " + std::to_string(status) +
+                             "), see " + log.string());
+  const double p99 = field(json, "p99_us"), bare_p99 = bare.us.percentile(0.99), peak = field(json, "peak_force_n");
+  return {"deployment",
+          {{"seconds", seconds}},
+          {{"jitter_p50_us", field(json, "jitter_p50_us")},
+           {"jitter_p99_us", field(json, "jitter_p99_us")},
+           {"in_tick_ratio", field(json, "on_time_ratio")},
+           {"rtt_p50_us", field(json, "p50_us")},
+           {"rtt_p99_us", p99},
+           {"bare_p50_us", bare.us.percentile(0.5)},
+           {"bare_p99_us", bare_p99},
+           {"p99_ratio_to_bare", p99 / bare_p99},
+           {"force_error_p99_n", field(json, "force_error_p99_n")},
+           {"peak_force_n", peak},
+           {"force_error_share", peak > 0 ? field(json, "force_error_p99_n") / peak : NAN},
+           {"ticks", field(json, "ticks")}}};
+}
+
 std::vector<Row> haptic_rows(const Context& c) {
   const double seconds = c.quick ? 10 : 60;
   std::vector<Row> rows;
@@ -88,6 +154,10 @@ std::vector<Row> haptic_rows(const Context& c) {
                    // answered within 0.8 ms of sending.
                    {"within_0_8ms_ratio", bare.sent ? double(bare.us.count_at_most(800)) / double(bare.sent) : 0}}});
   rows[0].metrics.push_back({"p99_ratio_to_bare", rows[0].metrics[1].second / rows[1].metrics[1].second});
+  const double scene_s = c.quick ? 20 : 60;
+  progress("haptic default deployment in real time, " + std::to_string(int(scene_s)) +
+           " s, a bare Fast DDS pair beside it at the haptic priority");
+  rows.push_back(deployment(c, scene_s));
   progress("haptic wall rig: stiffness 250 to 1000 N/m, delay 0 to 5 ms");
   for (const double k : {250.0, 500.0, 1000.0})
     for (const double delay_ms : {0.0, 1.0, 2.0, 3.0, 5.0}) {
@@ -110,8 +180,8 @@ std::vector<Row> haptic_rows(const Context& c) {
 
 Suite haptic_suite() {
   Suite s{"haptic",
-          "haptic device: closed-loop round trip through hcosim_haptic against bare Fast DDS, and the stiff wall "
-          "with 0 to 5 ms of force delay",
+          "haptic device: closed-loop round trip through hcosim_haptic against bare Fast DDS, the default scene's "
+          "haptic loop in real time, and the stiff wall with 0 to 5 ms of force delay",
           haptic_rows};
   s.tables = {
       {"closed_loop_rtt",
@@ -121,6 +191,12 @@ Suite haptic_suite() {
       {"bare_fastdds_rtt",
        "The same payloads and QoS kinds between two processes with Fast DDS alone, measured in the same run: the "
        "baseline; within_0_8ms_ratio applies the closed loop's on-time test to it."},
+      {"deployment",
+       "deploy/default.yaml's scene and services in real time through hcosim up (its tour repeated): the device's "
+       "wake-up jitter, in_tick_ratio (ticks whose every source answered within the tick), its round trip, and "
+       "the rendered-force error p99 (a late answer against what the device rendered from the local model) as a "
+       "share of the run's peak force; bare_* is a Fast DDS ping-pong pair at 1 kHz run beside it on the next "
+       "domain, both ends at the haptic threads' SCHED_FIFO priority."},
       {"wall",
        "The stiff-wall rig (adapters/device/wall_rig.h, passivity controller on) pressed 1 cm behind a wall of each "
        "stiffness with 0 to 5 ms of force delay: the largest force, the device's net work on the tip (energy_out_j, "
@@ -130,6 +206,13 @@ Suite haptic_suite() {
               {"stiffness_n_per_m"}, {}, {}, false, false}};
   s.goals = {{"the closed loop's p99 within 1.25 times bare Fast DDS's", "closed_loop_rtt", "p99_ratio_to_bare", 1.25},
              {"at least 99.9% of ticks answered in time", "closed_loop_rtt", "on_time_ratio", 0.999, "", "", true},
+             {"at least 99.9% of the default scene's ticks answered by every source within the tick", "deployment",
+              "in_tick_ratio", 0.999, "", "", true},
+             {"the default scene's round-trip p99 within 1.5 times bare Fast DDS's beside it", "deployment",
+              "p99_ratio_to_bare", 1.5},
+             {"the device loop's wake-up jitter p99 at most 100 us in the default scene", "deployment", "jitter_p99_us",
+              100},
+             {"the rendered-force error p99 at most 5% of the peak force", "deployment", "force_error_share", 0.05},
              {"every wall contact settles", "wall", "stable", 1, "", "", true},
              {"no energy created by the wall (energy_out_j at most 1 mJ)", "wall", "energy_out_j", 1e-3}};
   return s;

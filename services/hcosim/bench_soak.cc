@@ -5,7 +5,8 @@
 //
 // window: one row per minute (10 s with --quick): the services' resident
 //   memory (rss_mb, the sum of their VmRSS at the window's end), their
-//   overruns in the window (from ServiceStatus), the samples Fast DDS
+//   overruns in the window (from ServiceStatus; haptic_overruns: those of
+//   the haptic-rate services, the ones at the haptic priority), the samples Fast DDS
 //   reports lost to the bench's readers of the reliable topics
 //   (DeformedMesh, RigidBodyState, MarkerPose, ServiceStatus: their
 //   SampleLostStatus), and the haptic round trip as the bench sees it:
@@ -13,7 +14,7 @@
 //   each ForceFeedback answering it (p50, p99 over the window).
 // summary: rss_growth_pct (last window's rss_mb against the first's),
 //   reliable_lost (all windows), p99_drift_pct (|last window's p99 - the
-//   first's| against the first's), overruns (all windows).
+//   first's| against the first's), overruns and haptic_overruns (all windows).
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -22,6 +23,7 @@
 #include <fstream>
 #include <map>
 #include <regex>
+#include <set>
 #include <thread>
 #include <unordered_map>
 
@@ -35,31 +37,6 @@ namespace hcosim::cli {
 namespace {
 
 namespace fs = std::filesystem;
-
-// The default deployment in real time on `domain` for `seconds`, its tour
-// repeated to last that long, written into `dir`.
-fs::path soak_deployment(const fs::path& dir, int domain, double seconds) {
-  const fs::path deploy = fs::path(rt::default_qos_file()).parent_path();
-  YAML::Node tour = YAML::LoadFile((deploy / "scripts" / "tour.yaml").string());
-  YAML::Node actions(YAML::NodeType::Sequence);
-  // One tour takes about 20 s: enough of them for the run, and one more.
-  for (int k = 0; k < int(seconds / 20) + 2; ++k)
-    for (const auto& a : tour["actions"]) actions.push_back(YAML::Clone(a));
-  tour["actions"] = actions;
-  std::ofstream(dir / "tour_loop.yaml") << YAML::Dump(tour) << "\n";
-
-  YAML::Node d = YAML::LoadFile((deploy / "default.yaml").string());
-  d["domain"] = domain;
-  d["mode"] = "realtime";
-  d["duration"] = 0;  // the bench stops it
-  for (auto s : d["services"]) {
-    if (s["kind"].as<std::string>() == "haptic") s["params"]["script"] = (dir / "tour_loop.yaml").string();
-    if (s["kind"].as<std::string>() == "ar_view") s["params"].remove("snapshots");
-  }
-  const fs::path file = dir / "soak.yaml";
-  std::ofstream(file) << YAML::Dump(d) << "\n";
-  return file;
-}
 
 // kB of resident memory of `pid`, 0 if it is gone.
 double rss_kb(pid_t pid) {
@@ -94,7 +71,7 @@ std::vector<Row> soak_rows(const Context& c) {
   // Absolute: the deployment names the script, read from its own folder.
   const fs::path dir = fs::absolute(c.out / "soak_run");
   fs::create_directories(dir);
-  const fs::path file = soak_deployment(dir, c.domain, total), log = dir / "up.log";
+  const fs::path file = default_deployment(dir, c.domain, total, 0), log = dir / "up.log";  // the bench stops it
   progress("soak: the default deployment in real time for " + text(total) + " s, a row every " + text(window) +
            " s (" + dir.string() + ")");
 
@@ -132,12 +109,16 @@ std::vector<Row> soak_rows(const Context& c) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   const std::map<std::string, pid_t> pids = started(log);
+  // The haptic-rate services: those whose haptic threads run first.
+  std::set<std::string> haptic;
+  for (const rt::ServiceSpec& spec : rt::load_deployment(file.string()).services)
+    if (spec.priority > 0) haptic.insert(spec.name);
 
   std::unordered_map<std::uint64_t, std::int64_t> sent;  // omni's HapticState seq -> its wall clock, ns
   std::map<std::string, std::uint64_t> overruns;         // latest ServiceStatus.overruns per service
   rt::Window rtt_us(1 << 20);
   std::vector<Row> rows;
-  double lost_before = lost(), overruns_before = 0;
+  double lost_before = lost(), overruns_before = 0, haptic_before = 0;
   const std::int64_t start = rt::mono_ns();
   for (int w = 1; w * window <= total + 1e-9; ++w) {
     const std::int64_t end = start + std::int64_t(w * window * 1e9);
@@ -166,17 +147,18 @@ std::vector<Row> soak_rows(const Context& c) {
     if (waitpid(up, nullptr, WNOHANG) == up) throw std::runtime_error("soak: the deployment ended early:\n" + tail(log));
     double rss = 0;
     for (const auto& [name, pid] : pids) rss += rss_kb(pid);
-    double over = 0;
-    for (const auto& [name, n] : overruns) over += double(n);
+    double over = 0, haptic_over = 0;
+    for (const auto& [name, n] : overruns) over += double(n), haptic_over += haptic.count(name) ? double(n) : 0;
     const double l = lost();
     rows.push_back({"window", {{"t_s", w * window}},
-                    {{"rss_mb", rss / 1024}, {"overruns", over - overruns_before}, {"reliable_lost", l - lost_before},
+                    {{"rss_mb", rss / 1024}, {"overruns", over - overruns_before},
+                     {"haptic_overruns", haptic_over - haptic_before}, {"reliable_lost", l - lost_before},
                      {"haptic_rtt_p50_us", rtt_us.percentile(0.5)}, {"haptic_rtt_p99_us", rtt_us.percentile(0.99)},
                      {"answers", double(rtt_us.size())}}});
     progress("soak: " + text(w * window) + " s: rss " + text(rss / 1024) + " MB, haptic round trip p99 " +
              text(rtt_us.percentile(0.99)) + " us, " + text(l - lost_before) + " lost, " +
              text(over - overruns_before) + " overruns");
-    lost_before = l, overruns_before = over;
+    lost_before = l, overruns_before = over, haptic_before = haptic_over;
     rtt_us.clear();
   }
   stop();
@@ -188,19 +170,48 @@ std::vector<Row> soak_rows(const Context& c) {
   };
   const Row& first = rows.front();
   const Row& last = rows.back();
-  double lost_all = 0, over_all = 0;
-  for (const Row& r : rows) lost_all += metric(r, "reliable_lost"), over_all += metric(r, "overruns");
+  double lost_all = 0, over_all = 0, haptic_all = 0;
+  for (const Row& r : rows)
+    lost_all += metric(r, "reliable_lost"), over_all += metric(r, "overruns"), haptic_all += metric(r, "haptic_overruns");
   const double p99_0 = metric(first, "haptic_rtt_p99_us");
   rows.push_back({"summary", {{"seconds", total}},
                   {{"rss_growth_pct", 100 * (metric(last, "rss_mb") / metric(first, "rss_mb") - 1)},
                    {"reliable_lost", lost_all},
                    {"p99_drift_pct", 100 * std::abs(metric(last, "haptic_rtt_p99_us") - p99_0) / p99_0},
                    {"overruns", over_all},
+                   {"haptic_overruns", haptic_all},
                    {"windows", double(rows.size())}}});
   return rows;
 }
 
 }  // namespace
+
+fs::path default_deployment(const fs::path& dir, int domain, double seconds, double duration,
+                            const fs::path& device_report) {
+  const fs::path deploy = fs::path(rt::default_qos_file()).parent_path();
+  YAML::Node tour = YAML::LoadFile((deploy / "scripts" / "tour.yaml").string());
+  YAML::Node actions(YAML::NodeType::Sequence);
+  // One tour takes about 20 s: enough of them for the run, and one more.
+  for (int k = 0; k < int(seconds / 20) + 2; ++k)
+    for (const auto& a : tour["actions"]) actions.push_back(YAML::Clone(a));
+  tour["actions"] = actions;
+  std::ofstream(dir / "tour_loop.yaml") << YAML::Dump(tour) << "\n";
+
+  YAML::Node d = YAML::LoadFile((deploy / "default.yaml").string());
+  d["domain"] = domain;
+  d["mode"] = "realtime";
+  d["duration"] = duration;
+  for (auto s : d["services"]) {
+    if (s["kind"].as<std::string>() == "haptic") {
+      s["params"]["script"] = (dir / "tour_loop.yaml").string();
+      if (!device_report.empty()) s["params"]["report"] = device_report.string();
+    }
+    if (s["kind"].as<std::string>() == "ar_view") s["params"].remove("snapshots");
+  }
+  const fs::path file = dir / "deploy.yaml";
+  std::ofstream(file) << YAML::Dump(d) << "\n";
+  return file;
+}
 
 Suite soak_suite() {
   Suite s{"soak", "the default deployment in real time for 30 min (2 with --quick): memory, loss, overruns, haptic "
@@ -211,7 +222,8 @@ Suite soak_suite() {
                "deploy/default.yaml's scene and services in real time, the tour played again and again, one row per "
                "window: the services' resident memory at its end (sum of VmRSS), their overruns in it (ServiceStatus), "
                "samples Fast DDS reports lost to the bench's readers of DeformedMesh, RigidBodyState, MarkerPose and "
-               "ServiceStatus (reliable), and the haptic round trip the bench sees (HapticState sent, by its stamp, "
+               "ServiceStatus (reliable), haptic_overruns those of the haptic-rate services (haptic, rigid, deformable: "
+               "the ones whose haptic threads run first), and the haptic round trip the bench sees (HapticState sent, by its stamp, "
                "to each ForceFeedback answering it received), p50 and p99 over the window."},
               {"summary",
                "The whole run: rss_growth_pct is the last window's memory against the first's, p99_drift_pct the "
@@ -220,7 +232,9 @@ Suite soak_suite() {
              {"window", "t_s", "rss_mb", "time (s)", "services' resident memory (MB)", {}, {}, {}, false, false}};
   s.goals = {{"memory grows under 1% from the first window to the last", "summary", "rss_growth_pct", 1},
              {"no sample lost on reliable topics", "summary", "reliable_lost", 0},
-             {"haptic round-trip p99 within 20% from the first window to the last", "summary", "p99_drift_pct", 20}};
+             {"haptic round-trip p99 within 20% from the first window to the last", "summary", "p99_drift_pct", 20},
+             {"no overrun on the haptic-rate services (haptic, rigid, deformable) in any window", "summary",
+              "haptic_overruns", 0}};
   return s;
 }
 
