@@ -20,9 +20,6 @@ if [ "${1:-}" = "--sanitize" ]; then
   export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
   # Leaks in third-party libraries only, each explained in the file.
   export LSAN_OPTIONS="suppressions=$root/deploy/lsan.supp"
-  # OpenCV's gPhoto2 backend, probed when a video file does not open, leaks
-  # libgphoto2's and libusb's camera lists; hcosim never uses it.
-  export OPENCV_VIDEOIO_PRIORITY_GPHOTO2=0
   exec ctest -j "$(nproc)" --output-on-failure \
     -E '^(bench\..*|integration\.(haptic|haptic_loop|deformable|ar_view|tracker|replay|stall|faults|security_wire)|interop\.cyclone_mesh)$' "$@"
 fi

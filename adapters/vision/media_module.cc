@@ -114,12 +114,14 @@ Source* capture_folder(const std::string& path) {
 Source* capture_video(const std::string& path) {
   if (!fs::exists(path)) throw std::runtime_error(path + ": no such file or folder");
   if (access(path.c_str(), R_OK) != 0) throw std::runtime_error(path + ": permission denied");
-  // FFmpeg reads every common container; the other backends are tried
-  // quietly after it, so a file nobody reads gives one message, ours.
+  // FFmpeg reads every common container; GStreamer, the other file
+  // reader, is tried quietly after it, so a file nobody reads gives one
+  // message, ours. (CAP_ANY would also probe cameras: gphoto2's USB
+  // autodetect, which leaks, for a file.)
   cv::VideoCapture cap(path, cv::CAP_FFMPEG);
   if (!cap.isOpened()) {
     const auto level = cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
-    cap.open(path, cv::CAP_ANY);
+    cap.open(path, cv::CAP_GSTREAMER);
     cv::utils::logging::setLogLevel(level);
   }
   if (!cap.isOpened())
