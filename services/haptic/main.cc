@@ -160,7 +160,6 @@ int run(int argc, char** argv) {
     return std::all_of(want.begin(), want.end(), [&](const std::string& x) { return has(answered, x); });
   };
   const int status = svc.run([&](const Tick& tick) {
-    const std::int64_t due = mono_ns() - std::llround(tick.late_us * 1e3);
     jitter_us.add(tick.late_us);
     const device::Frame f = omni.begin_frame();
     const double now = tick.sim_time_ns * 1e-9;
@@ -202,9 +201,7 @@ int run(int argc, char** argv) {
       sum.expire(now);
       for (const auto& [from, last] : newest)
         if (sum.has(from)) expected.push_back(from);
-      // From when the tick was due, not when it woke: a late wake-up waits
-      // less, so that rendering still ends before the next tick.
-      const std::int64_t deadline = lockstep ? sent : due + std::int64_t(answer_wait * 1e9);
+      const std::int64_t deadline = sent + std::int64_t(lockstep ? 0 : answer_wait * 1e9);
       while (!all_in(expected) && mono_ns() < deadline && in.wait(std::chrono::nanoseconds(deadline - mono_ns())))
         take();
     }
