@@ -106,6 +106,10 @@ Suite soak_suite();
 std::filesystem::path default_deployment(const std::filesystem::path& dir, int domain, double seconds,
                                          double duration, const std::filesystem::path& device_report = {});
 
+// `hcosim up DEPLOYMENT --out OUT` in a child process, its output to `log`.
+pid_t start_up(const std::filesystem::path& deployment, const std::filesystem::path& out,
+               const std::filesystem::path& log);
+
 // The DDS transport: haptic round trips and mesh publishing against bare
 // Fast DDS: bench_dds.cc.
 Suite dds_suite();

@@ -95,14 +95,7 @@ Row deployment(const Context& c, double seconds) {
   const fs::path report = dir / "omni.json", log = dir / "up.log";
   fs::remove(report);
   const fs::path file = default_deployment(dir, c.domain, seconds + 10, seconds, report);
-  const std::string self = fs::read_symlink("/proc/self/exe").string();
-  const pid_t up = fork();
-  if (up == 0) {
-    freopen(log.c_str(), "w", stdout);
-    freopen(log.c_str(), "a", stderr);
-    execl(self.c_str(), self.c_str(), "up", file.c_str(), "--out", (dir / "out").c_str(), nullptr);
-    _exit(127);
-  }
+  const pid_t up = start_up(file, dir / "out", log);
   // The bare pair runs once every service does (the run's duration counts
   // from then), and ends before it.
   const std::int64_t deadline = rt::mono_ns() + std::int64_t(120e9);

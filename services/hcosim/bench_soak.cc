@@ -85,14 +85,7 @@ std::vector<Row> soak_rows(const Context& c) {
   rt::Reader<MarkerPose> poses(p);
   auto lost = [&] { return double(status.lost() + meshes.lost() + bodies.lost() + poses.lost()); };
 
-  const std::string self = fs::read_symlink("/proc/self/exe").string();
-  const pid_t up = fork();
-  if (up == 0) {
-    freopen(log.c_str(), "w", stdout);
-    freopen(log.c_str(), "a", stderr);
-    execl(self.c_str(), self.c_str(), "up", file.c_str(), "--out", (dir / "out").c_str(), nullptr);
-    _exit(127);
-  }
+  const pid_t up = start_up(file, dir / "out", log);
   auto stop = [&] {
     kill(up, SIGINT);
     int st = 0;
@@ -185,6 +178,18 @@ std::vector<Row> soak_rows(const Context& c) {
 }
 
 }  // namespace
+
+pid_t start_up(const fs::path& deployment, const fs::path& out, const fs::path& log) {
+  const std::string self = fs::read_symlink("/proc/self/exe").string();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    freopen(log.c_str(), "w", stdout);
+    freopen(log.c_str(), "a", stderr);
+    execl(self.c_str(), self.c_str(), "up", deployment.c_str(), "--out", out.c_str(), nullptr);
+    _exit(127);
+  }
+  return pid;
+}
 
 fs::path default_deployment(const fs::path& dir, int domain, double seconds, double duration,
                             const fs::path& device_report) {
