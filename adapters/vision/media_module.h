@@ -1,8 +1,9 @@
 // The interface between the media module (media_module.cc, built as
 // build/bin/hcosim_media.so) and its one loader, media_module(): OpenCV's
 // image files, video files and V4L2 cameras, whose libraries bring some
-// 230 shared libraries (FFmpeg, GStreamer, GDAL, ...) that took most of a
-// service's start (docs/reliability.md, "Faults"). A process loads them the
+// 230 shared libraries (FFmpeg, GStreamer, GDAL, ...) whose loading was
+// half of a tracker's start when idle, more beside the scene
+// (docs/reliability.md, "Faults"). A process loads them the
 // first time it reads or writes an image or a video; a synthetic camera
 // never does. Each function throws std::runtime_error saying what failed.
 #pragma once
