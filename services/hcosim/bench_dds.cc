@@ -17,8 +17,10 @@
 //   deploy/qos.xml's transports and "state" profile, rt::Writer, rt::Reader
 //   (which validates every sample). `impl` bare: Fast DDS alone, the same
 //   transports (shared memory with an 8 MiB segment, UDPv4) and QoS
-//   (RELIABLE, VOLATILE, writer KEEP_LAST 1, readers KEEP_LAST 16) set in
-//   code, the same bytes.
+//   (RELIABLE, VOLATILE, writer and readers KEEP_LAST 16) set in code, the
+//   same bytes. Each round starts with warm-up samples, not counted, until
+//   every reader has taken one (startup_ms, the slowest round's) and half
+//   a second more: loss and latency are a running reader's.
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -205,6 +207,7 @@ Rtt hcosim_rtt(int domain, double seconds) {
 
 constexpr double kMeshRateHz = 60;
 constexpr int kReaderDepth = 16;
+constexpr int kWriterDepth = 16;  // deploy/qos.xml's "state" writers
 
 // A sheet of `vertices` vertices, 1 mm apart, normals up.
 DeformedMesh mesh_sample(int vertices) {
@@ -249,43 +252,70 @@ Seen read_seen(const fs::path& file) {
 struct Writing {
   std::uint64_t written = 0, refused = 0;
   double cpu_s = 0, window_s = 0;
+  bool acked = true;     // every reader acknowledged the last sample in time
+  double startup_ms = 0;  // from the match until every reader took a sample
 };
 
-// The readers that matched the writer from their side: each says so with
-// FILE.ready. Until then a reader drops what it receives, and the writer's
-// KEEP_LAST 1 history no longer holds it when the reader asks again: that
-// is start-up, not loss, and is not measured.
+// The readers that have taken a warm-up sample: each says so with
+// FILE.ready.
 int ready(const std::vector<fs::path>& files) {
   int n = 0;
   for (const fs::path& f : files) n += fs::exists(f.string() + ".ready");
   return n;
 }
 
-// Writes `count` samples at 60 Hz once every reader is matched both ways;
-// the writer's own CPU time over the window.
+// Warm-up samples (topology_version 0) are written from the match until
+// every reader has taken one, and for kSettleSamples more: a reader process
+// just started is still loading, discovering the other readers and
+// allocating, and in its first ~0.4 s fell more than the writer's 16
+// samples behind and lost some (10^5 vertices to 3 readers, both impls;
+// 1000 vertices once on CI). That is start-up, reported as startup_ms; the
+// counted samples measure a running reader.
+constexpr int kSettleSamples = 30;
+
+// Writes warm-up samples, then `count` counted ones at 60 Hz; the writer's
+// own CPU time over the counted window.
 template <class Matched, class Write, class Acked>
 Writing write_meshes(int vertices, int count, const std::vector<fs::path>& readers, Matched&& matched, Write&& write,
                      Acked&& acked) {
   const int want = int(readers.size());
-  await_match([&] { return std::min(matched(), ready(readers)); }, want);
-  if (matched() < want || ready(readers) < want)
+  await_match(matched, want);
+  if (matched() < want)
     throw std::runtime_error("bench dds: of " + std::to_string(want) + " mesh readers, " + std::to_string(matched()) +
-                             " matched the writer and " + std::to_string(ready(readers)) +
-                             " matched it back in 10 s");
+                             " matched the writer in 10 s");
   DeformedMesh m = mesh_sample(vertices);
   Writing w;
-  const double cpu0 = cpu_s();
-  const std::int64_t start = rt::mono_ns(), period = std::int64_t(1e9 / kMeshRateHz);
-  for (int k = 0; k < count && !rt::stop_requested(); ++k) {
-    sleep_until(start + k * period);
-    m.positions()[2] = 1e-4f * float(k % 100);  // no two samples alike
-    m.stamp().step(std::uint64_t(k));
-    m.stamp().sim_time_ns(k * period);
+  const std::int64_t period = std::int64_t(1e9 / kMeshRateHz);
+  const auto put = [&](std::int64_t at, std::uint64_t step) {
+    sleep_until(at);
+    m.positions()[2] = 1e-4f * float(step % 100);  // no two samples alike
+    m.stamp().step(step);
+    m.stamp().sim_time_ns(std::int64_t(step) * period);
     m.stamp().wall_time_ns(rt::wall_ns());
-    if (write(m)) ++w.written;
+    return write(m);
+  };
+  m.topology_version(0);
+  const std::int64_t matched_at = rt::mono_ns();
+  int settle = kSettleSamples;
+  for (std::uint64_t k = 0; settle > 0 && !rt::stop_requested(); ++k) {
+    put(matched_at + std::int64_t(k) * period, k);
+    if (ready(readers) < want) {
+      if (rt::mono_ns() - matched_at > 10'000'000'000)
+        throw std::runtime_error("bench dds: of " + std::to_string(want) + " matched mesh readers, " +
+                                 std::to_string(ready(readers)) + " took a sample in 10 s");
+      w.startup_ms = (rt::mono_ns() - matched_at) * 1e-6;
+    } else {
+      --settle;
+    }
+  }
+  m.topology_version(1);
+  const double cpu0 = cpu_s();
+  const std::int64_t start = rt::mono_ns() + period;
+  for (int k = 0; k < count && !rt::stop_requested(); ++k) {
+    if (put(start + k * period, std::uint64_t(k))) ++w.written;
     else ++w.refused;
   }
-  acked();
+  w.acked = acked();
   w.window_s = (rt::mono_ns() - start) * 1e-9;
   w.cpu_s = cpu_s() - cpu0;
   return w;
@@ -318,11 +348,33 @@ bool reap(pid_t pid, double seconds) {
   return WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
+// Names the steps a reader never took, so that a loss can be told apart:
+// a run of missing steps mid-stream is a writer history overrun (the reader
+// fell 16 samples behind), missing last steps a reader stopped too early.
+void say_missed(const std::string& impl, int reader, int count, const Seen& s, bool acked) {
+  std::vector<bool> got(std::size_t(count), false);
+  for (std::uint64_t k : s.seq)
+    if (k < std::uint64_t(count)) got[k] = true;
+  std::string runs;
+  for (int k = 0; k < count;) {
+    if (got[std::size_t(k)]) {
+      ++k;
+      continue;
+    }
+    const int first = k;
+    while (k < count && !got[std::size_t(k)]) ++k;
+    runs += (runs.empty() ? "" : ", ") + std::to_string(first) + (k - 1 > first ? "-" + std::to_string(k - 1) : "");
+  }
+  progress("dds mesh_pub " + impl + ": reader " + std::to_string(reader) + " missed step(s) " + runs + " of " +
+           std::to_string(count) + (acked ? "" : "; the writer's wait for acknowledgements timed out"));
+}
+
 // One impl's samples over every round of a configuration.
 struct MeshTotals {
   rt::Window ms{1 << 20};
   rt::Window half[2] = {rt::Window{1 << 20}, rt::Window{1 << 20}};  // odd and even rounds apart
   double written = 0, received = 0, refused = 0, rejected = 0, cpu_s = 0, window_s = 0;
+  double startup_ms = 0;  // the slowest round's
 };
 
 // One round: `count` samples to `readers` fresh reader processes.
@@ -346,7 +398,7 @@ void mesh_round(const Context& c, const std::string& impl, int vertices, int rea
     q.reliability().kind = RELIABLE_RELIABILITY_QOS;
     q.durability().kind = VOLATILE_DURABILITY_QOS;
     q.history().kind = KEEP_LAST_HISTORY_QOS;
-    q.history().depth = 1;
+    q.history().depth = kWriterDepth;
     DataWriter* dw = p->create_publisher(PUBLISHER_QOS_DEFAULT)
                          ->create_datawriter(bare_topic<DeformedMesh>(p, rt::TopicOf<DeformedMesh>::name), q);
     w = write_meshes(
@@ -356,20 +408,22 @@ void mesh_round(const Context& c, const std::string& impl, int vertices, int rea
           dw->get_publication_matched_status(s);
           return s.current_count;
         },
-        [&](DeformedMesh& m) { return dw->write(&m); }, [&] { dw->wait_for_acknowledgments(rt::to_dds(ack)); });
+        [&](DeformedMesh& m) { return dw->write(&m); }, [&] { return dw->wait_for_acknowledgments(rt::to_dds(ack)) == ReturnCode_t::RETCODE_OK; });
     destroy(p);
   } else {
     rt::Participant p(c.domain, "bench");
     rt::Writer<DeformedMesh> dw(p);
     w = write_meshes(
         vertices, count, files, [&] { return dw.matched(); }, [&](DeformedMesh& m) { return dw.write(m); },
-        [&] { dw.wait_acknowledged(ack); });
+        [&] { return dw.wait_acknowledged(ack); });
   }
   t.written += double(count) * readers, t.refused += double(w.refused), t.cpu_s += w.cpu_s, t.window_s += w.window_s;
+  t.startup_ms = std::max(t.startup_ms, w.startup_ms);
   for (int k = 0; k < readers; ++k) {
     if (!reap(pids[std::size_t(k)], 5))
       throw std::runtime_error("bench dds: mesh reader " + std::to_string(k) + " failed; see " + files[std::size_t(k)].string());
     const Seen s = read_seen(files[std::size_t(k)]);
+    if (s.received < count) say_missed(impl, k, count, s, w.acked);
     t.received += s.received, t.rejected += s.rejected, t.cpu_s += s.cpu_s;
     for (double v : s.ms) t.ms.add(v), t.half[round % 2].add(v);
   }
@@ -386,6 +440,7 @@ Row mesh_row(const std::string& impl, int vertices, int readers, const MeshTotal
            {"samples", t.written},
            {"refused_writes", t.refused},
            {"rejected", t.rejected},
+           {"startup_ms", t.startup_ms},
            // The same impl measured twice (odd rounds, even rounds): how far
            // apart two p99s of one thing fall on this machine.
            {"p99_split_ratio", std::max(t.half[0].percentile(0.99) / t.half[1].percentile(0.99),
@@ -434,18 +489,19 @@ std::vector<Row> dds_rows(const Context& c) {
 int mesh_reader(const std::string& impl, int domain, int count, const fs::path& out, std::int64_t end) {
   Seen seen;
   double cpu0 = -1;
+  bool said = false;
   const auto got = [&](const DeformedMesh& m) {
+    if (m.topology_version() == 0) {  // warm-up: tells the writer this reader takes samples (see ready())
+      if (!said) said = bool(std::ofstream(out.string() + ".ready") << "taking\n");
+      return false;
+    }
     if (cpu0 < 0) cpu0 = cpu_s();
     ++seen.received;
     seen.seq.push_back(m.stamp().step());
     seen.ms.push_back((rt::wall_ns() - m.stamp().wall_time_ns()) * 1e-6);
     return m.stamp().step() + 1 >= std::uint64_t(count);
   };
-  bool last = false, said = false;
-  // Tells the writer this reader has matched it (see ready()).
-  const auto say_ready = [&](int matched) {
-    if (!said && matched > 0) said = bool(std::ofstream(out.string() + ".ready") << "matched\n");
-  };
+  bool last = false;
   if (impl == "bare") {
     DomainParticipant* p = bare_participant(domain, true);
     DataReaderQos q = DATAREADER_QOS_DEFAULT;
@@ -458,9 +514,6 @@ int mesh_reader(const std::string& impl, int domain, int count, const fs::path& 
     DeformedMesh m;
     SampleInfo info;
     while (!last && !rt::stop_requested() && rt::mono_ns() < end) {
-      SubscriptionMatchedStatus sm;
-      r->get_subscription_matched_status(sm);
-      say_ready(sm.current_count);
       if (!r->wait_for_unread_message(rt::to_dds(std::chrono::milliseconds(20)))) continue;
       while (r->take_next_sample(&m, &info) == ReturnCode_t::RETCODE_OK)
         if (info.valid_data) last = got(m) || last;
@@ -472,7 +525,6 @@ int mesh_reader(const std::string& impl, int domain, int count, const fs::path& 
     rt::Reader<DeformedMesh> r(
         p, [](const DeformedMesh& m) { return validate(m); }, &rejected, rt::TopicOf<DeformedMesh>::qos, kReaderDepth);
     while (!last && !rt::stop_requested() && rt::mono_ns() < end) {
-      say_ready(r.matched());
       if (r.wait(std::chrono::milliseconds(20))) r.take([&](const DeformedMesh& m) { last = got(m) || last; });
     }
     seen.rejected = double(rejected.count);
