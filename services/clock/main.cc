@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <map>
 #include <set>
 #include <thread>
 
@@ -38,21 +39,38 @@ int run_clock(Options options) {
   Reader<StepDone> done = svc.reader<StepDone>();
   const std::size_t n = followers.size();
 
-  // Start only when every follower can hear tick 0 and answer it.
+  // Start only when every follower can hear tick 0 and answer it: the
+  // tick writer has matched a reader in each follower's own participant,
+  // known from its status (a count would take a recorder's reader of
+  // ClockTick for a follower's, and tick 0 would never reach that one).
   Reader<ServiceStatus> status = svc.reader<ServiceStatus>();
   std::set<std::string> starting;  // followers whose latest status says "starting"
+  std::map<std::string, eprosima::fastrtps::rtps::InstanceHandle_t> endpoint_of;  // a follower's status writer
+  const auto all_reached = [&] {
+    for (const auto& f : followers) {
+      const auto it = endpoint_of.find(f);
+      if (it == endpoint_of.end() || !ticks.reaches(it->second)) return false;
+    }
+    return true;
+  };
   const std::int64_t t0 = mono_ns();
-  while (ticks.matched() < int(n) || done.matched() < int(n)) {
+  while (!all_reached() || done.matched() < int(n)) {
     if (stop_requested()) return 0;
     status.take([&](const ServiceStatus& s) {
-      if (s.state().to_string() == "starting") starting.insert(s.service().to_string());
-      else starting.erase(s.service().to_string());
+      const std::string name = s.service().to_string();
+      if (followers.count(name)) endpoint_of[name] = status.current_writer();
+      if (s.state().to_string() == "starting") starting.insert(name);
+      else starting.erase(name);
     });
     const double waited = (mono_ns() - t0) * 1e-9;
     const double limit = starting.empty() ? kJoinTimeoutS : kStartTimeoutS;
     if (waited > limit) {
+      std::set<std::string> unheard;
+      for (const auto& f : followers)
+        if (!endpoint_of.count(f) || !ticks.reaches(endpoint_of[f])) unheard.insert(f);
       std::cerr << "clock: after " << limit << " s only " << done.matched() << " of " << n << " followers joined ("
-                << names(followers) << ")" << (starting.empty() ? "" : "; still starting: " + names(starting)) << "\n";
+                << names(followers) << ")" << (unheard.empty() ? "" : "; not yet reading ticks: " + names(unheard))
+                << (starting.empty() ? "" : "; still starting: " + names(starting)) << "\n";
       return 1;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(10));

@@ -12,13 +12,14 @@ PIDS=()
 cleanup() {
   for p in "${PIDS[@]}"; do kill -TERM "$p" 2>/dev/null; done
   for p in "${PIDS[@]}"; do wait "$p" 2>/dev/null; done
-  rm -rf "$WORK"
+  # HCOSIM_KEEP_WORK=1 keeps the work folder for a look after a failure.
+  [ -n "${HCOSIM_KEEP_WORK:-}" ] && echo "kept $WORK" >&2 || rm -rf "$WORK"
 }
 trap cleanup EXIT
 
 fail() {
   echo "FAIL: $*" >&2
-  for f in "$WORK"/*.log "$WORK"/out/logs/*.log; do
+  for f in "$WORK"/*.log "$WORK"/*/logs/*.log; do
     [ -f "$f" ] && { echo "--- $f" >&2; tail -n 20 "$f" >&2; }
   done
   exit 1
