@@ -204,9 +204,9 @@ int run(int argc, char** argv) {
     answer_us.add((mono_ns() - t0) * 1e-3);
   };
   const bool group = in_haptic_group(svc, device);
-  std::unique_ptr<AnswerThread> haptic;
+  std::unique_ptr<AnswerOnArrival> haptic;
   if (svc.options().mode == Mode::kRealtime) {
-    haptic = std::make_unique<AnswerThread>(in, device, [&](const HapticState& s) { answer(s, answer_stamp(s)); });
+    haptic = std::make_unique<AnswerOnArrival>(in, device, [&](const HapticState& s) { answer(s, answer_stamp(s)); });
     lower_to_normal();  // the loop, and the visual worker it makes, run after the haptic thread
   }
   VisualWorker visual(svc, meshes, items);

@@ -1,10 +1,10 @@
-// How a force source meets the device's states: in real time a thread of
-// its own answers each HapticState as it arrives, never waiting on the
-// service's loop; in lockstep the step waits for the device's state of the
-// same step (the Gauss-Seidel group, docs/cosimulation.md).
+// How a force source meets the device's states: in real time each
+// HapticState is answered as it arrives, on the thread that receives it,
+// never waiting on the service's loop; in lockstep the step waits for the
+// device's state of the same step (the Gauss-Seidel group,
+// docs/cosimulation.md).
 #pragma once
 
-#include <atomic>
 #include <chrono>
 #include <functional>
 #include <stdexcept>
@@ -15,35 +15,32 @@
 
 namespace hcosim::rt {
 
-// Calls answer(state) on its own thread for every admissible HapticState
-// of `device` as it arrives. The thread inherits the scheduling of the
-// thread that makes this (realtime.h): make it before lowering that one.
-class AnswerThread {
+// Calls answer(state) for every admissible HapticState of `device` as it
+// arrives, on Fast DDS's receiving thread (Reader::on_arrival), never
+// waiting on the service's loop. That thread has the scheduling of the
+// thread that made the participant (realtime.h): the haptic priority, when
+// the service raised itself before joining.
+class AnswerOnArrival {
  public:
   using Answer = std::function<void(const HapticState&)>;
-  AnswerThread(Reader<HapticState>& in, std::string device, Answer answer)
-      : in_(in), device_(std::move(device)), answer_(std::move(answer)), thread_([this] { loop(); }) {}
-  ~AnswerThread() { stop(); }
-  AnswerThread(const AnswerThread&) = delete;
-  AnswerThread& operator=(const AnswerThread&) = delete;
-  void stop() {
-    stop_ = true;
-    if (thread_.joinable()) thread_.join();
+  AnswerOnArrival(Reader<HapticState>& in, std::string device, Answer answer)
+      : in_(in), device_(std::move(device)), answer_(std::move(answer)) {
+    in_.on_arrival([this] {
+      in_.take([&](const HapticState& s) {
+        if (s.device().to_string() == device_) answer_(s);
+      });
+    });
   }
+  ~AnswerOnArrival() { stop(); }
+  // No answer runs or follows once this returns.
+  void stop() { in_.on_arrival(nullptr); }
+  AnswerOnArrival(const AnswerOnArrival&) = delete;
+  AnswerOnArrival& operator=(const AnswerOnArrival&) = delete;
 
  private:
-  void loop() {
-    while (!stop_ && !stop_requested())
-      if (in_.wait(std::chrono::milliseconds(20)))
-        in_.take([&](const HapticState& s) {
-          if (s.device().to_string() == device_) answer_(s);
-        });
-  }
   Reader<HapticState>& in_;
   std::string device_;
   Answer answer_;
-  std::atomic<bool> stop_{false};
-  std::thread thread_;  // last: starts once the rest is built
 };
 
 // The stamp of an answer computed on arrival: the step and simulated time
