@@ -1,11 +1,10 @@
 # The haptic loop as the hand meets it (docs/haptic.md, "The loop").
 # 1. Real time, a device and two sources (a rigid cube, an elastic sheet)
-#    for 10 s: at least 97 % of ticks answered by every source within the
-#    tick. The bench judges the goal, 99.9 % (docs/PERFORMANCE.md); this
-#    bound tells a working loop from a broken one (0.0074 before issue 23)
-#    on a shared machine: the issue's 99 % failed here three times on
-#    2026-12-01 evening (0.9749, 0.9792, 0.9889) at code that passed it
-#    earlier that day.
+#    for 10 s: at least 99 % of ticks answered by every source within the
+#    tick (the issue's bound; the bench judges the goal, 99.9 %,
+#    docs/PERFORMANCE.md). With sources answering on the receiving thread
+#    16 runs gave 0.9933 to 0.9998 here (2026-12-02); with a thread of
+#    their own this bound failed three times (0.9749, 0.9792, 0.9889).
 # 2. A source that answers 3 ms late (a linear wall): the device renders
 #    its local model, so the force it outputs is the wall's at the current
 #    position (within rounding), its step from tick to tick never larger
@@ -51,7 +50,7 @@ grep -q "omni  *scheduling: " "$WORK/rt.log" || fail "up does not show the devic
 summary=$(grep "omni:.*ticks" "$WORK/rt/logs/omni.log") || fail "no summary from the device"
 echo "$summary"
 ratio=$(jq -r .on_time_ratio "$WORK/omni.json")
-awk -v r="$ratio" 'BEGIN { exit !(r >= 0.97) }' || fail "only $ratio of ticks answered within the tick: $summary"
+awk -v r="$ratio" 'BEGIN { exit !(r >= 0.99) }' || fail "only $ratio of ticks answered within the tick: $summary"
 grep -q "states in contact" "$WORK/rt/logs/bodies.log" || fail "no rigid summary"
 awk '/states in contact/ { for (i = 1; i <= NF; i++) if ($(i + 1) == "states" && $(i + 2) == "in") n = $i } END { exit !(n > 100) }' \
   "$WORK/rt/logs/bodies.log" || fail "the stylus never pressed the cube: $(grep 'states in contact' "$WORK/rt/logs/bodies.log")"
