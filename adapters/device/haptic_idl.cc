@@ -1,5 +1,7 @@
 #include "device/haptic_idl.h"
 
+#include <algorithm>
+
 namespace hcosim::device {
 
 HapticState haptic_state(const std::string& device, std::uint64_t seq, const StepStamp& stamp, const Frame& f,
@@ -50,6 +52,20 @@ ForceFeedback force_feedback(const std::string& source, const std::string& devic
   f.normal(to_idl(feel.normal));
   f.valid_radius_m(feel.radius);
   return f;
+}
+
+Feel free_feel(const Eigen::Vector3d& position, double clearance) {
+  Feel f;
+  f.position = position;
+  // Half a metre is far more than a hand travels within the horizon.
+  f.radius = std::clamp(clearance, 0.0, 0.5);
+  return f;
+}
+
+bool answer_covered(const Feel& last, std::uint64_t last_seq, const Eigen::Vector3d& hip, std::uint64_t seq,
+                    double servo_dt) {
+  if (last.in_contact || !(last.radius > 0) || seq < last_seq) return false;
+  return double(seq - last_seq) * servo_dt <= 0.5 * haptic::kFreeHorizonS && (hip - last.position).norm() < last.radius;
 }
 
 haptic::LocalModel local_model(const ForceFeedback& f) {

@@ -46,6 +46,19 @@ inline constexpr double kContactModelRadius = 0.002;  // m
 Feel contact_feel(const Eigen::Vector3d& force, const Eigen::Vector3d& position, const Eigen::Vector3d& normal,
                   double k, double depth, double radius);
 
+// The feel where a source has nothing within `clearance` (m) of the HIP at
+// `position` for the next haptic::kFreeHorizonS, its own motion included:
+// no force, a free-space model of that radius (none if clearance <= 0).
+Feel free_feel(const Eigen::Vector3d& position, double clearance);
+
+// Whether a source in real time may leave state `seq` (HIP at `hip`)
+// unanswered: its last answer, to state `last_seq`, was a free-space model
+// that covers the HIP (haptic::covers), given at most half of
+// haptic::kFreeHorizonS ago. The device renders that model exactly without
+// waiting, and the answers every half horizon keep the source fresh there.
+bool answer_covered(const Feel& last, std::uint64_t last_seq, const Eigen::Vector3d& hip, std::uint64_t seq,
+                    double servo_dt);
+
 // The answer of `source` to HapticState `seq` of `device`.
 ForceFeedback force_feedback(const std::string& source, const std::string& device, std::uint64_t seq,
                              const StepStamp& stamp, const Feel& feel);

@@ -32,6 +32,11 @@ Eigen::Vector3d ForceSum::total(double t, const Eigen::Vector3d& x) {
   return sum;
 }
 
+bool ForceSum::covers(const std::string& source, const Eigen::Vector3d& x) const {
+  const auto it = latest_.find(source);
+  return it != latest_.end() && haptic::covers(it->second.model, x);
+}
+
 Eigen::Vector3d ForceSum::force_of(const std::string& source) const {
   const auto it = latest_.find(source);
   return it == latest_.end() ? Eigen::Vector3d::Zero() : it->second.rendered;

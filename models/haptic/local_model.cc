@@ -17,6 +17,10 @@ Eigen::Vector3d evaluate(const LocalModel& m, const Eigen::Vector3d& x) {
   return f;
 }
 
+bool covers(const LocalModel& m, const Eigen::Vector3d& x) {
+  return m.radius > 0 && m.force.isZero(0) && m.jacobian.isZero(0) && (x - m.position).norm() < m.radius;
+}
+
 LocalModel contact_model(const Eigen::Vector3d& force, const Eigen::Vector3d& position, const Eigen::Vector3d& normal,
                          double k, double radius) {
   LocalModel m;

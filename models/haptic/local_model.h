@@ -19,6 +19,17 @@ struct LocalModel {
   double radius = 0;  // m, >= 0: how far from `position` the expansion holds; 0 holds `force`
 };
 
+// How long a free-space model holds after the state it answers: its
+// source has bounded its own motion over this long (see covers()).
+inline constexpr double kFreeHorizonS = 0.02;  // s
+
+// Whether `m` is a free-space model that reaches x: no force and no
+// stiffness, with x closer than `radius` to `position`. A source sends one
+// where nothing of it lies within `radius` of the stylus, for the next
+// kFreeHorizonS whatever it does meanwhile; there its force is exactly
+// zero, and a device needs no newer answer from it to render it.
+bool covers(const LocalModel& m, const Eigen::Vector3d& x);
+
 // The force of `m` at x: force + jacobian (x - position), the offset
 // limited to `radius`, and zero where a one-sided contact has opened.
 // Throws std::invalid_argument for a non-finite x or a negative radius.

@@ -16,6 +16,8 @@
 #include <thread>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "deformable/elastic_surface.h"
 #include "deformable/hybrid.h"
 #include "deformable/map_cache.h"
@@ -36,7 +38,34 @@ struct Item {
   std::uint64_t contacts = 0;  // ticks in contact
   double max_force = 0;        // N
   std::uint64_t frames = 0;    // meshes published
+  // World box around the object's rest shape (where contact begins) and
+  // its current one, refreshed by the loop every kBoundPeriodS (under the
+  // object's lock): where the stylus can find nothing of it
+  // (free_clearance).
+  Eigen::AlignedBox3d rest, bound;
+  device::Feel said;           // the last answer written (haptic thread)
+  std::uint64_t said_seq = 0;  // the state it answered
 };
+
+// How often the loop refreshes each object's bound, and the margin a
+// free-space answer keeps from it: the surface may move while the bound
+// ages and the answer holds (kBoundPeriodS + haptic::kFreeHorizonS, 40 ms:
+// 5 mm is a surface moving at 0.125 m/s, faster than a released sheet or
+// dome recovers).
+constexpr double kBoundPeriodS = 0.02;
+constexpr double kFreeMarginM = 0.005;
+
+Eigen::AlignedBox3d bound_of(const Eigen::Matrix3Xd& cage) {
+  Eigen::AlignedBox3d b;
+  for (Eigen::Index v = 0; v < cage.cols(); ++v) b.extend(cage.col(v));
+  return b;
+}
+
+// How far the HIP may go with nothing of the object near: its distance to
+// the object's bound, less the margin.
+double free_clearance(const Item& it, const Eigen::Vector3d& hip) {
+  return it.bound.exteriorDistance(hip) - kFreeMarginM;
+}
 
 // `cache`: the folder that keeps hybrid objects' visual maps between runs.
 std::unique_ptr<deformable::Object> make_object(const Params& o, const std::string& name, double servo_dt,
@@ -78,8 +107,8 @@ std::unique_ptr<deformable::Object> make_object(const Params& o, const std::stri
 // What the device feels from one object's touch, with the local model it
 // renders until the next answer: stiffness along the face's normal (in a
 // grab the object pulls, so no one-sided test).
-device::Feel feel(const deformable::Touch& t, const Eigen::Vector3d& hip, bool grab) {
-  if (!t.in_contact) return device::Feel{};
+device::Feel feel(const deformable::Touch& t, const Eigen::Vector3d& hip, bool grab, double clearance) {
+  if (!t.in_contact) return device::free_feel(hip, clearance);
   device::Feel f = device::contact_feel(t.force, hip, t.normal, t.stiffness, t.depth, device::kContactModelRadius);
   if (grab) f.normal.setZero();
   return f;
@@ -183,24 +212,43 @@ int run(int argc, char** argv) {
   // couple() and cage(): one lock per object, held for those calls only.
   std::vector<std::unique_ptr<PiMutex>> locks;
   for (std::size_t k = 0; k < items.size(); ++k) locks.push_back(std::make_unique<PiMutex>());
+  for (Item& it : items) it.rest = it.bound = bound_of(it.model->cage());
+  double next_bound = kBoundPeriodS;
   Window answer_us(1 << 16), behavior_us(1 << 16);
   // Every object's answer to one state, written as soon as it is computed.
+  // Every object's answer to one state, written as soon as it is computed.
+  // In real time an object whose last answer still covers the HIP with
+  // free space (device::answer_covered) is touched after the others and
+  // not answered: the device renders it without waiting, and the answers
+  // it waits for go out first.
+  const bool realtime = svc.options().mode == Mode::kRealtime;
+  std::uint64_t unanswered = 0;  // object-states left to a free-space answer
   const auto answer = [&](const HapticState& s, const StepStamp& stamp) {
     const std::int64_t t0 = mono_ns();
     const Eigen::Vector3d hip = device::from_idl(s.position());
     const bool grab = s.buttons() & 1u;
-    for (std::size_t k = 0; k < items.size(); ++k) {
+    const auto one = [&](std::size_t k, bool write) {
       Item& it = items[k];
       deformable::Touch t;
+      double clearance;
       {
         std::lock_guard<PiMutex> l(*locks[k]);
         t = it.model->touch(servo_dt, hip, grab);
+        clearance = free_clearance(it, hip);
       }
       it.contacts += t.in_contact;
       it.max_force = std::max(it.max_force, t.force.norm());
-      ForceFeedback f = device::force_feedback(it.name, device, s.seq(), stamp, feel(t, hip, grab));
+      if (!write && !t.in_contact) return ++unanswered, void();
+      it.said = feel(t, hip, grab, clearance);
+      it.said_seq = s.seq();
+      ForceFeedback f = device::force_feedback(it.name, device, s.seq(), stamp, it.said);
       force.write(f);
-    }
+    };
+    for (int pass = 0; pass < 2; ++pass)
+      for (std::size_t k = 0; k < items.size(); ++k) {
+        const bool covered = realtime && device::answer_covered(items[k].said, items[k].said_seq, hip, s.seq(), servo_dt);
+        if (covered == (pass == 1)) one(k, !covered);
+      }
     answer_us.add((mono_ns() - t0) * 1e-3);
   };
   const bool group = in_haptic_group(svc, device);
@@ -241,6 +289,19 @@ int run(int argc, char** argv) {
       }
     }
     if (stepped) behavior_us.add((mono_ns() - t1) * 1e-3);
+    if (now + 1e-12 >= next_bound) {
+      next_bound += kBoundPeriodS;
+      for (std::size_t k = 0; k < items.size(); ++k) {
+        Eigen::Matrix3Xd cage;
+        {
+          std::lock_guard<PiMutex> l(*locks[k]);
+          cage = items[k].model->cage();
+        }
+        const Eigen::AlignedBox3d b = bound_of(cage).extend(items[k].rest);
+        std::lock_guard<PiMutex> l(*locks[k]);
+        items[k].bound = b;
+      }
+    }
     if (now + 1e-12 >= next_frame) {
       next_frame += visual_period;
       if (meshes.matched() == 0) {
@@ -260,6 +321,8 @@ int run(int argc, char** argv) {
   for (const Item& it : items)
     std::printf("%s: %llu ticks in contact, max force %.3f N, %llu meshes published\n", it.name.c_str(),
                 static_cast<unsigned long long>(it.contacts), it.max_force, static_cast<unsigned long long>(it.frames));
+  std::printf("%s: %llu object-states left to a free-space answer\n", svc.options().name.c_str(),
+              static_cast<unsigned long long>(unanswered));
   std::printf("%s: haptic answer (all objects) p50 %.1f us p99 %.1f us over %zu states; "
               "behavior p50 %.1f us p99 %.1f us; "
               "visual frame (all objects) p50 %.2f ms p99 %.2f ms, %llu shed (worker busy)\n",

@@ -21,6 +21,7 @@
 #include "device/script_yaml.h"
 #include "device/simulated_omni.h"
 #include "haptic/force_sum.h"
+#include "haptic/local_model.h"
 #include "haptic/passivity.h"
 #include "service.h"
 
@@ -133,6 +134,7 @@ int run(int argc, char** argv) {
   std::uint64_t seq = 0;
   std::uint64_t in_tick = 0, with_sources = 0;  // ticks every expected source answered in, of those expecting one
   std::uint64_t modelled = 0;                   // source-ticks rendered from a local model (the answer was late)
+  std::uint64_t covered = 0;                    // source-ticks whose free-space model needed no answer
   double peak = 0;                              // N, largest force rendered
   std::map<std::string, std::uint64_t> newest;  // per source, the newest state answered
   // Sources that answered this tick's state, and those it waits for
@@ -144,7 +146,10 @@ int run(int argc, char** argv) {
   };
   const auto handle = [&](const ForceFeedback& s, double now) {
     const std::string from = s.source().to_string();
-    rtt.answered(s.answers_seq(), mono_ns());
+    const haptic::LocalModel model = device::local_model(s);
+    // The round trip of answers the device waits for: a free-space one is
+    // rendered without waiting, whenever it comes.
+    if (!haptic::covers(model, model.position)) rtt.answered(s.answers_seq(), mono_ns());
     if (s.answers_seq() == seq) {
       if (!has(answered, from)) answered.push_back(from);
     }
@@ -153,7 +158,7 @@ int run(int argc, char** argv) {
     auto [it, fresh] = newest.try_emplace(from, s.answers_seq());
     if (!fresh && s.answers_seq() < it->second) return;  // an older answer overtaken by a newer one
     it->second = s.answers_seq();
-    sum.set(from, device::local_model(s), now);
+    sum.set(from, model, now);
   };
   const auto mine = [&](const ForceFeedback& s) { return s.device().to_string() == name; };
   const auto all_in = [&](const std::vector<std::string>& want) {
@@ -198,9 +203,15 @@ int run(int argc, char** argv) {
       take();
       // In lockstep outside a group, this tick's answers belong to the next
       // tick: no wait.
+      // A source whose latest answer is a free-space model reaching the
+      // HIP (nothing of it near, haptic::covers) renders exactly zero: no
+      // newer answer is needed, and none is waited for.
       sum.expire(now);
-      for (const auto& [from, last] : newest)
-        if (sum.has(from)) expected.push_back(from);
+      for (const auto& [from, last] : newest) {
+        if (!sum.has(from)) continue;
+        if (double(seq - last) * dt <= haptic::kFreeHorizonS && sum.covers(from, f.position)) ++covered;
+        else expected.push_back(from);
+      }
       const std::int64_t deadline = sent + std::int64_t(lockstep ? 0 : answer_wait * 1e9);
       while (!all_in(expected) && mono_ns() < deadline && in.wait(std::chrono::nanoseconds(deadline - mono_ns())))
         take();
@@ -209,7 +220,7 @@ int run(int argc, char** argv) {
     for (const auto& [from, last] : newest) {
       if (!sum.has(from)) continue;
       rendered.put(from, seq, sum.force_of(from));
-      modelled += last != seq;
+      if (last != seq && (gauss_seidel || has(expected, from))) ++modelled;
     }
     const std::vector<std::string>& waited = gauss_seidel ? group : expected;
     if (!waited.empty()) ++with_sources, in_tick += all_in(waited);
@@ -227,7 +238,7 @@ int run(int argc, char** argv) {
     r << "{\"ticks\":" << seq << ",\"answered\":" << w.size() << ",\"p50_us\":" << w.percentile(0.5)
       << ",\"p99_us\":" << w.percentile(0.99) << ",\"on_time_ratio\":" << in_tick_ratio
       << ",\"jitter_p50_us\":" << jitter_us.percentile(0.5) << ",\"jitter_p99_us\":" << jitter_us.percentile(0.99)
-      << ",\"modelled\":" << modelled << ",\"late_answers\":" << error_n.size()
+      << ",\"modelled\":" << modelled << ",\"covered\":" << covered << ",\"late_answers\":" << error_n.size()
       << ",\"force_error_p99_n\":" << error_n.percentile(0.99) << ",\"peak_force_n\":" << peak
       << ",\"saturated\":" << omni.saturated() << "}\n";
     if (!r) throw std::runtime_error("cannot write " + report);
@@ -237,10 +248,12 @@ int run(int argc, char** argv) {
               name.c_str(), static_cast<unsigned long long>(omni.frames()), w.size(), w.percentile(0.5),
               w.percentile(0.99), in_tick_ratio, static_cast<unsigned long long>(omni.saturated()),
               static_cast<unsigned long long>(sum.expired()), pc.dissipated());
-  std::printf("%s: wake-up jitter p50 %.0f us p99 %.0f us; %llu source-ticks rendered from a local model; "
-              "%zu late answers, rendered-force error p99 %.4f N of a %.3f N peak\n",
+  std::printf("%s: wake-up jitter p50 %.0f us p99 %.0f us; %llu source-ticks rendered from a local model, "
+              "%llu from a free-space one (nothing near); %zu late answers, rendered-force error p99 %.4f N of a "
+              "%.3f N peak\n",
               name.c_str(), jitter_us.percentile(0.5), jitter_us.percentile(0.99),
-              static_cast<unsigned long long>(modelled), error_n.size(), error_n.percentile(0.99), peak);
+              static_cast<unsigned long long>(modelled), static_cast<unsigned long long>(covered), error_n.size(),
+              error_n.percentile(0.99), peak);
   return status;
 }
 

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "device/haptic_idl.h"
+#include "haptic/local_model.h"
 #include "rigid/mujoco_world.h"
 #include "rigid/proxy.h"
 #include "rigid/rigid_idl.h"
@@ -30,6 +31,9 @@ namespace {
 // Where the tip waits until the device's first state: 1 m above the
 // marker, clear of any scene the service accepts.
 constexpr double kParkedTipZ = 1.0;
+// Kept from a body by a free-space answer: gravity over the horizon
+// (0.5 g t^2, 2 mm in 20 ms) and the body's speed changing meanwhile.
+constexpr double kFreeMarginM = 0.004;
 // A device state older than this no longer moves the tip: the tip stops
 // where it is, so that a silent device cannot carry it through the scene.
 constexpr double kStaleState = 0.02;  // s
@@ -66,6 +70,17 @@ rigid::Body make_body(const Params& o, bool ground) {
   if (ground && b.x.z() < b.size - 1e-9)
     o.fail("centre", "centre z must be at least size: the body would start inside the marker plane (ground: on)");
   return b;
+}
+
+// How far the HIP may go with nothing of body `b` near for the next
+// haptic::kFreeHorizonS: its distance to the body's bounding sphere, less
+// the tip's radius, what the body may travel meanwhile at its current
+// speed (a hit body slows; gravity adds under 2 mm in 20 ms) and a margin
+// for that.
+double free_clearance(const rigid::Body& b, double tip_radius, const Eigen::Vector3d& hip) {
+  const double reach = b.shape == rigid::Shape::sphere ? b.size : std::sqrt(3.0) * b.size;
+  const double travel = (b.v.norm() + b.w.norm() * reach) * haptic::kFreeHorizonS;
+  return (hip - b.x).norm() - reach - tip_radius - travel - kFreeMarginM;
 }
 
 int run(int argc, char** argv) {
@@ -125,6 +140,10 @@ int run(int argc, char** argv) {
   Writer<RigidDivergence> divergences(svc.participant());
   std::vector<rigid::Proxy> proxies(items.size());
   std::vector<device::Feel> feels(items.size());
+  std::vector<device::Feel> said(items.size());     // the last answer written per body
+  std::vector<std::uint64_t> said_seq(items.size());  // the state it answered
+  const bool realtime = svc.options().mode == Mode::kRealtime;
+  std::uint64_t unanswered = 0;  // body-states left to a free-space answer
   Window answer_us(1 << 16);
   // The haptic thread moves the tip and the proxies, the loop steps the
   // bodies: one lock for the scene, held by each for that part only.
@@ -145,9 +164,12 @@ int run(int argc, char** argv) {
       double deepest = 0;
       for (std::size_t i = 0; i < items.size(); ++i) {
         device::Feel& f = feels[i];
-        f = device::Feel{};
-        const Eigen::Vector3d proxy = proxies[i].update(body(i), spec.tip_radius, h);
-        if (!proxies[i].in_contact()) continue;
+        const rigid::Body b = body(i);
+        const Eigen::Vector3d proxy = proxies[i].update(b, spec.tip_radius, h);
+        if (!proxies[i].in_contact()) {
+          f = device::free_feel(h, free_clearance(b, spec.tip_radius, h));
+          continue;
+        }
         const Eigen::Vector3d d = proxy - h;
         const double depth = d.norm();
         if (depth > deepest) deepest = depth, tip.x = proxy;
@@ -162,10 +184,18 @@ int run(int argc, char** argv) {
       set_tip(tip);
     }
     state_mono = mono_ns();
+    // In real time a body whose last answer still covers the HIP with free
+    // space is not answered (device::answer_covered): the device renders
+    // it without waiting.
     bool touching = false;
     for (std::size_t i = 0; i < items.size(); ++i) {
       touching = touching || feels[i].in_contact;
       felt = std::max(felt, feels[i].force.norm());
+      if (realtime && !feels[i].in_contact && device::answer_covered(said[i], said_seq[i], h, s.seq(), dt)) {
+        ++unanswered;
+        continue;
+      }
+      said[i] = feels[i], said_seq[i] = s.seq();
       ForceFeedback f = device::force_feedback(items[i].name, device, s.seq(), stamp, feels[i]);
       force.write(f);
     }
@@ -254,6 +284,8 @@ int run(int argc, char** argv) {
     std::printf("%s: %s at [%.4f, %.4f, %.4f] m, max speed %.3f m/s, %s\n", items[i].name.c_str(), rigid::name(b.shape),
                 b.x.x(), b.x.y(), b.x.z(), items[i].max_speed, b.sleeping ? "asleep" : "awake");
   }
+  std::printf("%s: %llu body-states left to a free-space answer\n", svc.options().name.c_str(),
+              static_cast<unsigned long long>(unanswered));
   std::printf("%s: %s backend, bodies step p50 %.1f us p99 %.1f us over %zu ticks; haptic answer (all bodies) "
               "p50 %.1f us p99 %.1f us over %zu states; %llu tip hits, %llu states in contact, max force %.3f N\n",
               svc.options().name.c_str(), backend.c_str(), step_us.percentile(0.5), step_us.percentile(0.99),

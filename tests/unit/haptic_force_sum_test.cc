@@ -81,5 +81,37 @@ TEST(HapticLocalModel, RefusesBadArguments) {
   EXPECT_THROW(evaluate(m, {0, 0, 0}), std::invalid_argument);
 }
 
+// A free-space model covers only inside its radius, and only a model that
+// is exactly zero there: any force or stiffness needs its source's answer.
+TEST(HapticLocalModel, CoversFreeSpaceOnlyInsideItsRadius) {
+  LocalModel free;
+  free.position = {0.1, 0, 0};
+  free.radius = 0.01;
+  EXPECT_TRUE(covers(free, {0.105, 0, 0}));
+  EXPECT_FALSE(covers(free, {0.111, 0, 0}));
+  LocalModel none = free;
+  none.radius = 0;  // no contact, but no free space vouched for either
+  EXPECT_FALSE(covers(none, free.position));
+  LocalModel pushing = free;
+  pushing.force = {0, 0, 1e-9};
+  EXPECT_FALSE(covers(pushing, free.position));
+  LocalModel stiff = free;
+  stiff.jacobian(2, 2) = -100;
+  EXPECT_FALSE(covers(stiff, free.position));
+  EXPECT_EQ(evaluate(free, {0.105, 0, 0}), Eigen::Vector3d::Zero());
+}
+
+TEST(HapticForceSum, CoversASourceByItsLatestModel) {
+  ForceSum sum(0.05);
+  LocalModel free;
+  free.radius = 0.02;
+  sum.set("ball", free, 0.0);
+  EXPECT_TRUE(sum.covers("ball", {0.01, 0, 0}));
+  EXPECT_FALSE(sum.covers("ball", {0.03, 0, 0}));
+  EXPECT_FALSE(sum.covers("cube", {0, 0, 0}));  // never answered
+  sum.set("ball", contact_model({0, 0, 1}, {0, 0, 0}, {0, 0, 1}, 500, 0.002), 0.001);
+  EXPECT_FALSE(sum.covers("ball", {0, 0, 0}));
+}
+
 }  // namespace
 }  // namespace hcosim::haptic

@@ -45,5 +45,28 @@ TEST(HapticIdl, VectorsRoundTrip) {
   EXPECT_EQ(from_idl(to_idl(v)), v);
 }
 
+// A free-space answer carries no force and the clearance as its radius, and
+// lets a source skip states while it still covers the HIP, for half the
+// horizon at most; a contact never lets it skip.
+TEST(HapticIdl, FreeSpaceAnswersCoverTheHipForHalfTheHorizon) {
+  const Eigen::Vector3d hip(0.01, 0.02, 0.03);
+  const Feel f = free_feel(hip, 0.004);
+  EXPECT_FALSE(f.in_contact);
+  EXPECT_EQ(f.force, Eigen::Vector3d::Zero());
+  EXPECT_EQ(f.position, hip);
+  EXPECT_DOUBLE_EQ(f.radius, 0.004);
+  EXPECT_DOUBLE_EQ(free_feel(hip, -0.1).radius, 0);
+  const haptic::LocalModel m = local_model(force_feedback("ball", "omni", 7, StepStamp{}, f));
+  EXPECT_TRUE(haptic::covers(m, hip + Eigen::Vector3d(0.003, 0, 0)));
+  const double dt = 0.001;
+  EXPECT_TRUE(answer_covered(f, 7, hip + Eigen::Vector3d(0, 0.003, 0), 8, dt));
+  EXPECT_FALSE(answer_covered(f, 7, hip + Eigen::Vector3d(0, 0.005, 0), 8, dt));  // out of the free ball
+  EXPECT_TRUE(answer_covered(f, 7, hip, 17, dt));                                  // 10 ms: half the horizon
+  EXPECT_FALSE(answer_covered(f, 7, hip, 18, dt));
+  EXPECT_FALSE(answer_covered(free_feel(hip, 0), 7, hip, 8, dt));
+  const Feel touching = contact_feel({0, 0, 1}, hip, {0, 0, 1}, 500, 0.002, kContactModelRadius);
+  EXPECT_FALSE(answer_covered(touching, 7, hip, 8, dt));
+}
+
 }  // namespace
 }  // namespace hcosim::device
