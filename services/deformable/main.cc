@@ -149,6 +149,7 @@ class VisualWorker {
 
  private:
   void loop() {
+    lower_to_normal();  // meshes go after every haptic-rate thread (the camera's and view's peers)
     std::unique_lock<std::mutex> l(m_);
     for (;;) {
       cv_.wait(l, [this] { return stop_ || busy_; });
@@ -255,7 +256,7 @@ int run(int argc, char** argv) {
   std::unique_ptr<AnswerOnArrival> haptic;
   if (svc.options().mode == Mode::kRealtime) {
     haptic = std::make_unique<AnswerOnArrival>(in, device, [&](const HapticState& s) { answer(s, answer_stamp(s)); });
-    lower_to_normal();  // the loop, and the visual worker it makes, run after the haptic thread
+    lower_below(svc.options().scheduling);  // the loop after the haptic answers; the visual worker lowers itself
   }
   VisualWorker visual(svc, meshes, items);
   HapticState latest;

@@ -117,6 +117,7 @@ Suite dds_suite();
 // 1 kHz HapticState -> ForceFeedback round trips, us (bench_dds.cc).
 struct Rtt {
   rt::Window us{1 << 20};
+  rt::Window late_us{1 << 20};  // the pinging loop's wake-up lateness: a bare timer's jitter beside the same load
   std::uint64_t sent = 0, lost = 0;
 };
 

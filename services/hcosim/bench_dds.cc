@@ -152,6 +152,7 @@ Rtt ping(double seconds, Wait&& wait, Take&& take, Write&& write) {
   const std::uint64_t n = std::uint64_t(seconds * 1000);
   for (std::uint64_t k = 0; k < n; ++k) {
     sleep_until(start + std::int64_t(k) * period);
+    r.late_us.add((rt::mono_ns() - start - std::int64_t(k) * period) * 1e-3);
     s.seq(k);
     s.position().z(1e-3 * double(k % 10));
     const std::int64_t t0 = rt::mono_ns();

@@ -12,7 +12,8 @@
 //   (jitter, the share of ticks every source answered within, round trip,
 //   rendered-force error against the run's peak force), and a bare Fast DDS
 //   ping-pong pair at 1 kHz beside it on the next domain, both ends (and
-//   their Fast DDS threads) at the haptic threads' priority.
+//   their Fast DDS threads) at the haptic threads' priority, whose pinging
+//   loop's wake-up lateness is the bare timer's jitter under the same load.
 // wall: the stiff-wall rig (adapters/device/wall_rig.h) per delay and
 //   stiffness: the largest force output, the device's net work on the tip,
 //   whether the contact settled, the settled depth's error from where the
@@ -119,6 +120,8 @@ Row deployment(const Context& c, double seconds) {
           {{"seconds", seconds}},
           {{"jitter_p50_us", field(json, "jitter_p50_us")},
            {"jitter_p99_us", field(json, "jitter_p99_us")},
+           {"bare_jitter_p50_us", bare.late_us.percentile(0.5)},
+           {"bare_jitter_p99_us", bare.late_us.percentile(0.99)},
            {"in_tick_ratio", field(json, "on_time_ratio")},
            {"rtt_p50_us", field(json, "p50_us")},
            {"rtt_p99_us", p99},
@@ -128,6 +131,7 @@ Row deployment(const Context& c, double seconds) {
            {"force_error_p99_n", field(json, "force_error_p99_n")},
            {"peak_force_n", peak},
            {"force_error_share", peak > 0 ? field(json, "force_error_p99_n") / peak : NAN},
+           {"covered_source_ticks", field(json, "covered")},
            {"ticks", field(json, "ticks")}}};
 }
 
@@ -189,7 +193,9 @@ Suite haptic_suite() {
        "wake-up jitter, in_tick_ratio (ticks whose every source answered within the tick), its round trip, and "
        "the rendered-force error p99 (a late answer against what the device rendered from the local model) as a "
        "share of the run's peak force; bare_* is a Fast DDS ping-pong pair at 1 kHz run beside it on the next "
-       "domain, both ends at the haptic threads' SCHED_FIFO priority."},
+       "domain, both ends at the haptic threads' SCHED_FIFO priority; bare_jitter_* is its pinging loop's wake-up "
+       "lateness (clock_nanosleep to an absolute time, as the device's loop), what the timer itself gives there; "
+       "covered_source_ticks: sources rendered from a free-space answer, not waited for."},
       {"wall",
        "The stiff-wall rig (adapters/device/wall_rig.h, passivity controller on) pressed 1 cm behind a wall of each "
        "stiffness with 0 to 5 ms of force delay: the largest force, the device's net work on the tip (energy_out_j, "

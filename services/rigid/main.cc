@@ -206,7 +206,7 @@ int run(int argc, char** argv) {
   std::unique_ptr<AnswerOnArrival> haptic;
   if (svc.options().mode == Mode::kRealtime) {
     haptic = std::make_unique<AnswerOnArrival>(in, device, [&](const HapticState& s) { answer(s, answer_stamp(s)); });
-    lower_to_normal();  // the loop steps the bodies at normal priority
+    lower_below(svc.options().scheduling);  // the loop steps the bodies after the haptic answers
   }
   HapticState latest;
   bool have = false;

@@ -74,6 +74,18 @@ void lower_to_normal() {
   pthread_setschedparam(pthread_self(), SCHED_OTHER, &p);
 }
 
+void lower_below(const Scheduling& s) {
+  // Never raises: a thread the system (or a sanitizer build) left at the
+  // normal scheduler stays there.
+  int policy = SCHED_OTHER;
+  sched_param now{};
+  pthread_getschedparam(pthread_self(), &policy, &now);
+  if (policy != SCHED_FIFO || s.priority <= 1 || now.sched_priority < s.priority) return lower_to_normal();
+  sched_param p{};
+  p.sched_priority = s.priority - 1;
+  if (pthread_setschedparam(pthread_self(), SCHED_FIFO, &p) != 0) lower_to_normal();
+}
+
 PiMutex::PiMutex() {
   pthread_mutexattr_t a;
   pthread_mutexattr_init(&a);

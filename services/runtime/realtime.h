@@ -25,6 +25,11 @@ std::string apply(const Scheduling& s);
 // The calling thread back to the normal scheduler (its affinity kept).
 void lower_to_normal();
 
+// The calling thread one SCHED_FIFO priority below `s` (a source's loop,
+// after its haptic answers and before everything at normal priority), or
+// the normal scheduler when `s` has no priority above 1.
+void lower_below(const Scheduling& s);
+
 // A mutex with priority inheritance: a normal-priority holder runs at the
 // waiting haptic thread's priority until it unlocks, so that other normal
 // work cannot hold the haptic thread off (priority inversion).
