@@ -32,8 +32,6 @@ namespace {
 
 // Default share of a tick spent waiting for its answers (answer_wait).
 constexpr double kAnswerShare = 0.8;
-// What a real-time tick keeps after its wait to render and output, ns.
-constexpr std::int64_t kRenderNs = 50'000;
 // Lockstep: how long a step waits for its group's answers before failing.
 constexpr double kGroupWaitS = 10;
 
@@ -214,11 +212,7 @@ int run(int argc, char** argv) {
         if (double(seq - last) * dt <= haptic::kFreeHorizonS && sum.covers(from, f.position)) ++covered;
         else expected.push_back(from);
       }
-      // The wait runs from the send, but never past the tick's end less
-      // kRenderNs: a late wake-up then waits less instead of overrunning.
-      const std::int64_t tick_end = sent - std::int64_t(tick.late_us * 1e3) + std::int64_t(dt * 1e9) - kRenderNs;
-      const std::int64_t deadline =
-          lockstep ? sent : std::min(sent + std::int64_t(answer_wait * 1e9), std::max(sent, tick_end));
+      const std::int64_t deadline = sent + std::int64_t(lockstep ? 0 : answer_wait * 1e9);
       while (!all_in(expected) && mono_ns() < deadline && in.wait(std::chrono::nanoseconds(deadline - mono_ns())))
         take();
     }
