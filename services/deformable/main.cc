@@ -217,7 +217,6 @@ int run(int argc, char** argv) {
   double next_bound = kBoundPeriodS;
   Window answer_us(1 << 16), behavior_us(1 << 16);
   // Every object's answer to one state, written as soon as it is computed.
-  // Every object's answer to one state, written as soon as it is computed.
   // In real time an object whose last answer still covers the HIP with
   // free space (device::answer_covered) is touched after the others and
   // not answered: the device renders it without waiting, and the answers
@@ -245,6 +244,7 @@ int run(int argc, char** argv) {
       ForceFeedback f = device::force_feedback(it.name, device, s.seq(), stamp, it.said);
       force.write(f);
     };
+    // Pass 0 answers the objects the device waits for, pass 1 touches the rest.
     for (int pass = 0; pass < 2; ++pass)
       for (std::size_t k = 0; k < items.size(); ++k) {
         const bool covered = realtime && device::answer_covered(items[k].said, items[k].said_seq, hip, s.seq(), servo_dt);

@@ -147,14 +147,17 @@ int run(int argc, char** argv) {
   const auto handle = [&](const ForceFeedback& s, double now) {
     const std::string from = s.source().to_string();
     const haptic::LocalModel model = device::local_model(s);
-    // The round trip of answers the device waits for: a free-space one is
-    // rendered without waiting, whenever it comes.
-    if (!haptic::covers(model, model.position)) rtt.answered(s.answers_seq(), mono_ns());
+    // The round trip and the rendered-force error are those of answers the
+    // device waits for: a free-space one is rendered without waiting,
+    // whenever it comes, and is exact.
+    const bool free = haptic::covers(model, model.position);
+    if (!free) rtt.answered(s.answers_seq(), mono_ns());
     if (s.answers_seq() == seq) {
       if (!has(answered, from)) answered.push_back(from);
     }
     // A late answer: what the user felt in its place, against it.
-    else if (const auto r = rendered.at(from, s.answers_seq())) error_n.add((device::from_idl(s.force()) - *r).norm());
+    else if (const auto r = rendered.at(from, s.answers_seq()); r && !free)
+      error_n.add((device::from_idl(s.force()) - *r).norm());
     auto [it, fresh] = newest.try_emplace(from, s.answers_seq());
     if (!fresh && s.answers_seq() < it->second) return;  // an older answer overtaken by a newer one
     it->second = s.answers_seq();
@@ -201,8 +204,6 @@ int run(int argc, char** argv) {
         });
       };
       take();
-      // In lockstep outside a group, this tick's answers belong to the next
-      // tick: no wait.
       // A source whose latest answer is a free-space model reaching the
       // HIP (nothing of it near, haptic::covers) renders exactly zero: no
       // newer answer is needed, and none is waited for.
@@ -212,6 +213,8 @@ int run(int argc, char** argv) {
         if (double(seq - last) * dt <= haptic::kFreeHorizonS && sum.covers(from, f.position)) ++covered;
         else expected.push_back(from);
       }
+      // In lockstep outside a group, this tick's answers belong to the next
+      // tick: no wait.
       const std::int64_t deadline = sent + std::int64_t(lockstep ? 0 : answer_wait * 1e9);
       while (!all_in(expected) && mono_ns() < deadline && in.wait(std::chrono::nanoseconds(deadline - mono_ns())))
         take();

@@ -2,7 +2,9 @@
 # rebuilds complete meshes: topology from the latched topic, positions from
 # DeformedMesh (5402 vertices, the seed's visual mesh size); first from a
 # probe writing known values, then from the deformable service's hybrid
-# cube, with one reader there from the start and one joining late.
+# cube, with one reader there from the start and one joining late. Then
+# Cyclone reads the rigid service's ForceFeedback to a device pressing a
+# cube: contacts with their local force model, and free-space answers.
 # usage: bash cyclone_test.sh BIN_DIR TEST_BIN_DIR DOMAIN READER
 source "$(dirname "$0")/../integration/lib.sh"
 READER=$4
@@ -28,4 +30,39 @@ echo "$out" | grep -q "topology of 'cube', version 1, 5402 vertices" || fail "la
 wait $live || fail "live cyclone reader: $(cat "$WORK/live.log")"
 echo "live: $(cat "$WORK/live.log")"
 grep -q "topology of 'cube', version 1, 5402 vertices" "$WORK/live.log" || fail "live topology: $(cat "$WORK/live.log")"
+
+# ForceFeedback, local force model and free space, read by Cyclone while a
+# device presses a rigid cube and leaves it.
+kill -TERM "${PIDS[-1]}" 2>/dev/null; wait "${PIDS[-1]}" 2>/dev/null
+cat >"$WORK/press.yaml" <<'YAML'
+start: [0, 0, 0.05]
+actions:
+  - move_to: {to: [0, 0, 0.023], speed: 0.05}
+  - press: {depth: 0.006, speed: 0.01}
+  - hold: {duration: 1}
+  - release: {speed: 0.02}
+  - move_to: {to: [0, 0, 0.06], speed: 0.05}
+  - hold: {duration: 10}
+YAML
+deployment force.yaml <<'YAML'
+mode: realtime
+duration: 8
+services:
+  - name: omni
+    kind: haptic
+    rate: 1000
+    params: {script: press.yaml, centre: [0, 0, 0]}
+  - name: bodies
+    kind: rigid
+    rate: 1000
+    params:
+      device: omni
+      bodies: [{name: cube, shape: cube, size: 0.01, mass: 0.05, centre: [0, 0, 0.01]}]
+YAML
+"$(dirname "$READER")/cyclone_force_reader" "$DOMAIN" 1000 25 >"$WORK/force.log" 2>&1 &
+force=$!
+PIDS+=($force)
+start force_up "$BIN/hcosim" up "$WORK/force.yaml" --out "$WORK/force"
+wait $force || fail "cyclone ForceFeedback reader: $(cat "$WORK/force.log")"
+echo "force: $(cat "$WORK/force.log")"
 echo "cyclone_test: ok"
