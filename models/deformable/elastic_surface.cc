@@ -66,6 +66,15 @@ bool ElasticSurface::inside(const Eigen::Vector3d& hip) const {
   return p.z() > 0 && p.norm() < spec_.size;
 }
 
+Eigen::AlignedBox3d ElasticSurface::reach() const {
+  const Eigen::Vector3d& c = spec_.centre;
+  if (spec_.shape == Shape::sheet) {
+    const double half = 0.5 * spec_.size;
+    return {c - Eigen::Vector3d(half, half, half), c + Eigen::Vector3d(half, half, 0)};
+  }
+  return {c - Eigen::Vector3d(spec_.size, spec_.size, 0), c + Eigen::Vector3d::Constant(spec_.size)};
+}
+
 Touch ElasticSurface::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
   need(std::isfinite(dt) && std::abs(dt - spec_.options.dt) <= 1e-9 * spec_.options.dt,
        "touch dt must equal the behavior step options.dt");

@@ -45,6 +45,9 @@ class ElasticSurface final : public Object {
   // vertex's rest tangent plane (or, with `grab`, until grab ends). Then
   // one behavior step. dt must equal options.dt.
   Touch touch(double dt, const Eigen::Vector3d& hip, bool grab) override;
+  // Where inside() can hold: under the sheet's frame down to half its
+  // edge, or the dome's half ball.
+  Eigen::AlignedBox3d reach() const override;
   double behavior_dt() const override { return 0; }
   void couple() override {}
   void integrate() override {}

@@ -96,6 +96,7 @@ class Hybrid final : public Object {
   // the visual rest mesh plus their map, reading only the cage vertices
   // that moved (apply_moved); exactly the rest mesh at rest, whatever the
   // map's precision.
+  Eigen::AlignedBox3d reach() const override { return {lo_, hi_}; }  // contact begins inside the rest box
   Eigen::Matrix3Xd cage() const override;
   Eigen::Matrix3Xd surface_from(const Eigen::Matrix3Xd& cage) const override;
   const std::vector<Eigen::Vector3i>& triangles() const override { return visual_.triangles; }

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 namespace hcosim::deformable {
 
@@ -26,6 +27,10 @@ class Object {
   // user can pull it (001 Fig 5b). Throws std::invalid_argument for a
   // non-finite hip or dt.
   virtual Touch touch(double dt, const Eigen::Vector3d& hip, bool grab) = 0;
+  // The world box (m, fixed) outside which touch() begins no contact: a
+  // HIP outside it touches nothing of the object, but for a contact that
+  // began inside and goes on (until the HIP is back out, or in a grab).
+  virtual Eigen::AlignedBox3d reach() const = 0;
   // The behavior model's step, s (0: it advances within touch()).
   virtual double behavior_dt() const = 0;
   // One behavior step, in two parts: couple() copies what the behavior

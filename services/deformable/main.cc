@@ -16,8 +16,6 @@
 #include <thread>
 #include <vector>
 
-#include <Eigen/Geometry>
-
 #include "deformable/elastic_surface.h"
 #include "deformable/hybrid.h"
 #include "deformable/map_cache.h"
@@ -38,33 +36,18 @@ struct Item {
   std::uint64_t contacts = 0;  // ticks in contact
   double max_force = 0;        // N
   std::uint64_t frames = 0;    // meshes published
-  // World box around the object's rest shape (where contact begins) and
-  // its current one, refreshed by the loop every kBoundPeriodS (under the
-  // object's lock): where the stylus can find nothing of it
-  // (free_clearance).
-  Eigen::AlignedBox3d rest, bound;
   device::Feel said;           // the last answer written (haptic thread)
   std::uint64_t said_seq = 0;  // the state it answered
 };
 
-// How often the loop refreshes each object's bound, and the margin a
-// free-space answer keeps from it: the surface may move while the bound
-// ages and the answer holds (kBoundPeriodS + haptic::kFreeHorizonS, 40 ms:
-// 5 mm is a surface moving at 0.125 m/s, faster than a released sheet or
-// dome recovers).
-constexpr double kBoundPeriodS = 0.02;
-constexpr double kFreeMarginM = 0.005;
+// Kept from an object's reach by a free-space answer: the reach is exact
+// (deformable::Object::reach), so only rounding, and a HIP that moves on
+// while its answer is computed, are covered.
+constexpr double kFreeMarginM = 0.001;
 
-Eigen::AlignedBox3d bound_of(const Eigen::Matrix3Xd& cage) {
-  Eigen::AlignedBox3d b;
-  for (Eigen::Index v = 0; v < cage.cols(); ++v) b.extend(cage.col(v));
-  return b;
-}
-
-// How far the HIP may go with nothing of the object near: its distance to
-// the object's bound, less the margin.
-double free_clearance(const Item& it, const Eigen::Vector3d& hip) {
-  return it.bound.exteriorDistance(hip) - kFreeMarginM;
+// How far the HIP may go with nothing of the object near.
+double free_clearance(const deformable::Object& o, const Eigen::Vector3d& hip) {
+  return o.reach().exteriorDistance(hip) - kFreeMarginM;
 }
 
 // `cache`: the folder that keeps hybrid objects' visual maps between runs.
@@ -213,8 +196,6 @@ int run(int argc, char** argv) {
   // couple() and cage(): one lock per object, held for those calls only.
   std::vector<std::unique_ptr<PiMutex>> locks;
   for (std::size_t k = 0; k < items.size(); ++k) locks.push_back(std::make_unique<PiMutex>());
-  for (Item& it : items) it.rest = it.bound = bound_of(it.model->cage());
-  double next_bound = kBoundPeriodS;
   Window answer_us(1 << 16), behavior_us(1 << 16);
   // Every object's answer to one state, written as soon as it is computed.
   // In real time an object whose last answer still covers the HIP with
@@ -234,7 +215,7 @@ int run(int argc, char** argv) {
       {
         std::lock_guard<PiMutex> l(*locks[k]);
         t = it.model->touch(servo_dt, hip, grab);
-        clearance = free_clearance(it, hip);
+        clearance = free_clearance(*it.model, hip);
       }
       it.contacts += t.in_contact;
       it.max_force = std::max(it.max_force, t.force.norm());
@@ -290,19 +271,6 @@ int run(int argc, char** argv) {
       }
     }
     if (stepped) behavior_us.add((mono_ns() - t1) * 1e-3);
-    if (now + 1e-12 >= next_bound) {
-      next_bound += kBoundPeriodS;
-      for (std::size_t k = 0; k < items.size(); ++k) {
-        Eigen::Matrix3Xd cage;
-        {
-          std::lock_guard<PiMutex> l(*locks[k]);
-          cage = items[k].model->cage();
-        }
-        const Eigen::AlignedBox3d b = bound_of(cage).extend(items[k].rest);
-        std::lock_guard<PiMutex> l(*locks[k]);
-        items[k].bound = b;
-      }
-    }
     if (now + 1e-12 >= next_frame) {
       next_frame += visual_period;
       if (meshes.matched() == 0) {
