@@ -3,8 +3,9 @@
 #    for 10 s: at least 99 % of ticks answered by every source within the
 #    tick (the bound; the bench judges the goal, 99.9 %,
 #    docs/PERFORMANCE.md). With sources answering on the receiving thread
-#    16 runs gave 0.9933 to 0.9998 here (2026-12-02); with a thread of
-#    their own this bound failed three times (0.9749, 0.9792, 0.9889).
+#    16 runs of this deployment (`hcosim up`, the device's report) gave
+#    0.9933 to 0.9998 here (2026-12-02); with a thread of their own this
+#    bound failed three times (0.9749, 0.9792, 0.9889).
 #    A source far from the stylus answers with free space around it, which
 #    the device renders without waiting (docs/haptic.md, "Free space").
 # 2. A source that answers 3 ms late (a linear wall): the device renders
