@@ -46,15 +46,14 @@ int run_clock(Options options) {
   Reader<ServiceStatus> status = svc.reader<ServiceStatus>();
   std::set<std::string> starting;  // followers whose latest status says "starting"
   std::map<std::string, eprosima::fastrtps::rtps::InstanceHandle_t> endpoint_of;  // a follower's status writer
-  const auto all_reached = [&] {
-    for (const auto& f : followers) {
-      const auto it = endpoint_of.find(f);
-      if (it == endpoint_of.end() || !ticks.reaches(it->second)) return false;
-    }
-    return true;
+  const auto unheard = [&] {  // followers the tick writer does not reach yet
+    std::set<std::string> out;
+    for (const auto& f : followers)
+      if (!endpoint_of.count(f) || !ticks.reaches(endpoint_of.at(f))) out.insert(f);
+    return out;
   };
   const std::int64_t t0 = mono_ns();
-  while (!all_reached() || done.matched() < int(n)) {
+  while (!unheard().empty() || done.matched() < int(n)) {
     if (stop_requested()) return 0;
     status.take([&](const ServiceStatus& s) {
       const std::string name = s.service().to_string();
@@ -65,11 +64,9 @@ int run_clock(Options options) {
     const double waited = (mono_ns() - t0) * 1e-9;
     const double limit = starting.empty() ? kJoinTimeoutS : kStartTimeoutS;
     if (waited > limit) {
-      std::set<std::string> unheard;
-      for (const auto& f : followers)
-        if (!endpoint_of.count(f) || !ticks.reaches(endpoint_of[f])) unheard.insert(f);
+      const std::set<std::string> deaf = unheard();
       std::cerr << "clock: after " << limit << " s only " << done.matched() << " of " << n << " followers joined ("
-                << names(followers) << ")" << (unheard.empty() ? "" : "; not yet reading ticks: " + names(unheard))
+                << names(followers) << ")" << (deaf.empty() ? "" : "; not yet reading ticks: " + names(deaf))
                 << (starting.empty() ? "" : "; still starting: " + names(starting)) << "\n";
       return 1;
     }
