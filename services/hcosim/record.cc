@@ -28,8 +28,7 @@ int record_topics(const Args& a) {
   rt::Recorder recorder(p, a.positional[0], topics);
   const std::int64_t end = duration > 0 ? rt::mono_ns() + std::int64_t(duration * 1e9) : INT64_MAX;
   while (!rt::stop_requested() && rt::mono_ns() < end) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    recorder.poll();
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   recorder.close();
   std::cerr << "hcosim record: " << recorder.samples() << " samples to " << a.positional[0] << "\n";

@@ -396,7 +396,7 @@ int up(const std::vector<std::string>& argv) {
   // still start.
   bool all_joined = false, join_warned = false, all_running = false, start_warned = false;
   while (reason.empty()) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(recorder ? 2 : 20));
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
     progress->update();
     const double waited = (rt::mono_ns() - start) * 1e-9;
     if (!all_joined) {
@@ -436,7 +436,6 @@ int up(const std::vector<std::string>& argv) {
         std::fflush(stdout);
       }
     }
-    if (recorder) recorder->poll();
     if (cleaner > 0 && waitpid(cleaner, nullptr, WNOHANG) == cleaner) cleaner = -1;
     if (g_signal) reason = std::string("stopped by ") + (g_signal == SIGINT ? "SIGINT" : "SIGTERM");
     else if (rt::mono_ns() >= end) reason = "duration reached";

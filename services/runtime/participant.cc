@@ -43,7 +43,9 @@ Participant::Participant(int domain, const std::string& name, const std::string&
     qos.wire_protocol().participant_id = int32_t(v);
   }
   add_security(security, qos);
-  participant_ = factory->create_participant(domain, qos, listener, StatusMask::all());
+  // Discovery only: a participant listener enabled for data_on_readers would
+  // take every reader's data_available away from the reader's own listener.
+  participant_ = factory->create_participant(domain, qos, listener, StatusMask::none());
   if (!participant_ && security.on())
     throw std::runtime_error("cannot create a DDS participant on domain " + std::to_string(domain) +
                              " with DDS Security as '" + security.identity + "' (credentials " + security.dir +

@@ -31,7 +31,8 @@ class Participant {
  public:
   // Loads `qos_file` and joins `domain` under `name` (shown in discovery).
   // Throws std::runtime_error naming the file or the domain on failure.
-  // A `listener`, if given, hears discovery from the first moment.
+  // A `listener`, if given, hears discovery from the first moment (and no
+  // status: readers' own listeners hear their data, Reader::on_arrival).
   // `lockstep`: see set_lockstep(). `security`, when on, joins with those
   // credentials: only participants of the same CA and permissions match.
   Participant(int domain, const std::string& name, const std::string& qos_file = default_qos_file(),

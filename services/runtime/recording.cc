@@ -11,7 +11,7 @@ namespace {
 constexpr char kMagic[8] = {'H', 'C', 'O', 'S', 'R', 'E', 'C', '1'};
 // Large enough for a 1280x720 bgr8 frame; a larger length means a corrupt file.
 constexpr std::uint32_t kMaxRecord = 64u << 20;
-// Samples a recorder's reader keeps per instance between polls.
+// Samples a recorder's reader keeps per instance while its listener runs.
 constexpr int kRecorderDepth = 256;
 
 template <class U>
@@ -101,13 +101,25 @@ Recorder::Recorder(Participant& p, const std::string& path, const std::vector<st
     if (!topics.empty() && std::find(topics.begin(), topics.end(), TopicOf<T>::name) == topics.end()) return;
     // No validation: a recording keeps what was on the wire, bad samples included.
     auto reader = std::make_shared<Reader<T>>(p, nullptr, nullptr, TopicOf<T>::qos, kRecorderDepth);
-    topics_.push_back({[this, reader] { reader->take([&](const T& s) { writer_.write(make_record(s, wall_ns())); }); },
+    auto take = [this, r = reader.get()] {
+      r->take([&](const T& s) {
+        Record rec = make_record(s, wall_ns());
+        std::lock_guard<std::mutex> l(m_);
+        writer_.write(rec);
+      });
+    };
+    reader->on_arrival(take);
+    topics_.push_back({[reader, take] {
+                         reader->on_arrival(nullptr);
+                         take();
+                       },
                        [reader] { return reader->lost(); }, TopicOf<T>::name});
   });
 }
 
-void Recorder::poll() {
-  for (auto& t : topics_) t.poll();
+std::uint64_t Recorder::samples() const {
+  std::lock_guard<std::mutex> l(m_);
+  return writer_.count();
 }
 
 std::string Recorder::losses() const {
@@ -119,7 +131,7 @@ std::string Recorder::losses() const {
 }
 
 void Recorder::close() {
-  poll();
+  for (auto& t : topics_) t.stop();
   losses_ = losses();
   topics_.clear();
   writer_.close();

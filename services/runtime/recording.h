@@ -7,6 +7,7 @@
 #include <fstream>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -103,27 +104,29 @@ Record make_record(const T& s, std::int64_t receive_ns) {
   return r;
 }
 
-// Subscribes to topics of the contract and writes every sample it takes.
+// Subscribes to topics of the contract and writes every sample as it
+// arrives, on Fast DDS's receiving thread: a reader's history never fills
+// behind a late poll (a burst that a stalled recorder's shared-memory port
+// held would overwrite samples there, which Fast DDS does not count lost).
 class Recorder {
  public:
   // `topics` empty: every topic. Throws std::invalid_argument naming an
   // unknown topic, std::runtime_error when the file cannot be written.
   Recorder(Participant& p, const std::string& path, const std::vector<std::string>& topics);
-  // Takes and writes what has arrived; call every few milliseconds.
-  void poll();
-  // Polls a last time and closes the file.
+  // Stops recording, writes what is left and closes the file.
   void close();
-  std::uint64_t samples() const { return writer_.count(); }
+  std::uint64_t samples() const;
   // Samples Fast DDS reports the readers will never receive, per topic,
   // as "Topic N, ..."; empty when none. After close(), those at close().
   std::string losses() const;
 
  private:
   struct Topic {
-    std::function<void()> poll;
+    std::function<void()> stop;  // takes no more on arrival, then what is left
     std::function<std::uint64_t()> lost;
     std::string name;
   };
+  mutable std::mutex m_;  // writer_: several receiving threads write to it
   RecordingWriter writer_;
   std::vector<Topic> topics_;  // each owning its reader
   std::string losses_;         // losses() at close()
