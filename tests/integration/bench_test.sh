@@ -33,7 +33,7 @@ problems=$(jq -r '
         elif ($m.loss_ratio | type) != "number" then "mesh_pub \($v) \($s) \($i): no loss_ratio"
         elif $i == "hcosim" and $v <= 10000 and $m.loss_ratio != 0
           then "mesh_pub \($v) \($s): hcosim lost \($m.loss_ratio) of the samples (RELIABLE)"
-        elif $m.samples != 480 * $s then "mesh_pub \($v) \($s) \($i): \($m.samples) samples, not \(480 * $s)"
+        elif $m.samples != 240 * $s then "mesh_pub \($v) \($s) \($i): \($m.samples) samples, not \(240 * $s)"
         elif $i == "hcosim" and ($m.p99_ratio_to_bare | type) != "number" then "mesh_pub \($v) \($s): no ratio to bare"
         else empty end])
   | .[]' "$f") || fail "jq could not read $f"
