@@ -107,8 +107,8 @@ int run(int argc, char** argv) {
   const std::vector<Item> items = items_of(p);
   std::vector<double> snapshots = p.numbers("snapshots", 0, 1e6);
   std::sort(snapshots.begin(), snapshots.end());
-  const bool plots = p.text("plots", "on", {"on", "off"}) == "on";
-  const bool show_stylus = p.text("stylus", "on", {"on", "off"}) == "on";
+  const bool plots = p.on("plots", true);
+  const bool show_stylus = p.on("stylus", true);
   render::View view;
   view.force_scale = p.number("force_scale", view.force_scale, 0, 1);
   const fs::path out = svc.options().out;

@@ -101,7 +101,7 @@ int run(int argc, char** argv) {
   haptic::Hand hand;
   hand.stiffness = p.number("hand_stiffness", hand.stiffness, 1, 1e4);
   hand.damping = p.number("hand_damping", hand.damping, 0, 1e3);
-  const bool passivity = p.text("passivity", "on", {"on", "off"}) == "on";
+  const bool passivity = p.on("passivity", true);
   const double dt = 1 / spec.servo_hz;
   haptic::PassivityController pc(dt, p.number("max_damping", 20, 1e-3, 1e3), p.number("reservoir", 1e-4, 1e-9, 10));
   haptic::ForceSum sum(p.number("source_timeout", 0.05, 1e-3, 10));

@@ -2,6 +2,7 @@
 // order. hcosim replay: a recording's samples published again, on the
 // schedule they were recorded at.
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <iostream>
 #include <functional>
@@ -10,6 +11,7 @@
 #include <regex>
 #include <thread>
 #include <stdexcept>
+#include <tuple>
 
 #include <yaml-cpp/yaml.h>
 
@@ -33,6 +35,21 @@ void flatten(const YAML::Node& n, const std::string& path, std::vector<std::pair
   }
 }
 
+// A sample's instance key as Fast DDS hashes it (all zero on a topic
+// without key fields).
+using Key = std::array<std::uint8_t, 16>;
+Key key_of(const rt::Record& r) {
+  Key k{};
+  rt::with_topic(r.topic, [&](auto tag) {
+    using T = typename decltype(tag)::type;
+    T s = rt::from_cdr<T>(r.cdr);
+    typename rt::TopicOf<T>::PubSub type;
+    eprosima::fastrtps::rtps::InstanceHandle_t h;
+    if (type.m_isGetKeyDefined && type.getKey(&s, &h, false)) for (std::size_t i = 0; i < k.size(); ++i) k[i] = h.value[i];
+  });
+  return k;
+}
+
 std::string csv_field(const std::string& s) {
   if (s.find_first_of(",\"\n") == std::string::npos) return s;
   std::string q = "\"";
@@ -54,16 +71,26 @@ int export_recording(const std::vector<std::string>& argv) {
 
   rt::RecordingReader in(a.positional[0]);
   std::vector<rt::Record> records;
+  std::vector<Key> keys;
   std::uint64_t total = 0;
   for (rt::Record r; in.next(r); ++total)
-    if (r.topic == topic) records.push_back(std::move(r));
-  // Step order; samples of one step keep the order they were received in.
-  std::stable_sort(records.begin(), records.end(),
-                   [](const rt::Record& x, const rt::Record& y) { return x.step < y.step; });
+    if (r.topic == topic) {
+      keys.push_back(key_of(r));
+      records.push_back(std::move(r));
+    }
+  // Step order, then instance key: the same samples export the same lines
+  // whatever order they arrived in (one step's meshes of several objects,
+  // two lockstep runs). One instance's samples of a step keep their order.
+  std::vector<std::size_t> order(records.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+    return std::tie(records[x].step, keys[x]) < std::tie(records[y].step, keys[y]);
+  });
   // Wall-clock fields differ between runs of the same deployment.
   const std::regex wall(R"(,"wall_time_ns":-?[0-9]+)");
   std::vector<std::string> header;
-  for (const rt::Record& r : records) {
+  for (const std::size_t i : order) {
+    const rt::Record& r = records[i];
     std::string line;
     rt::with_topic(topic, [&](auto tag) {
       using T = typename decltype(tag)::type;

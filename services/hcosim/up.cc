@@ -330,6 +330,11 @@ int up(const std::vector<std::string>& argv) {
     c.args.insert(c.args.end(), sch.begin(), sch.end());
     children.push_back(std::move(c));
   }
+  // The clock alone would step nothing: surely a mistake in the file.
+  if (children.empty())
+    throw rt::ConfigError(d.services_where + ": nothing to run: " +
+                          (d.services.empty() ? std::string("the deployment lists no services")
+                                              : "the scene needs none of its services (above)"));
   if (d.mode == rt::Mode::kLockstep) {
     Child clock{"clock", find_service("clock", d.file, 1), common("clock", 1.0 / d.step_s)};
     std::ostringstream dur;

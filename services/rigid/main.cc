@@ -92,7 +92,7 @@ int run(int argc, char** argv) {
   const std::string backend = p.text("backend", "analytic", {"analytic", "mujoco", "crosscheck"});
   const double dt = 1 / svc.options().rate_hz;
   rigid::WorldSpec spec;
-  spec.ground = p.text("ground", "on", {"on", "off"}) == "on";
+  spec.ground = p.on("ground", true);
   spec.tip = material(p, "", spec.tip);
   spec.floor = material(p, "floor_", spec.floor);
   spec.tip_radius = p.number("tip_radius", spec.tip_radius, 0, 0.05);

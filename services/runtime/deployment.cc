@@ -194,6 +194,7 @@ Deployment load_deployment(const std::string& path) {
 
   Deployment d;
   d.file = path;
+  d.services_where = path + ":1:1";
   if (auto n = root["domain"]) {
     const double v = config_number(path, n, "domain");
     if (v != std::floor(v) || v < 0 || v > kMaxDomain)
@@ -228,6 +229,7 @@ Deployment load_deployment(const std::string& path) {
   if (auto n = root["scene"]) d.scene = parse_scene(path, n);
   if (auto n = root["services"]) {
     if (!n.IsSequence()) throw config_error(path, n, "'services' must be a list");
+    d.services_where = path + ":" + std::to_string(n.Mark().line + 1) + ":" + std::to_string(n.Mark().column + 1);
     std::set<std::string> names;
     for (const auto& s : n) {
       ServiceSpec spec = parse_service(path, s);
@@ -269,6 +271,14 @@ std::string Params::text(const std::string& key, const std::string& fallback,
   if (std::find(allowed.begin(), allowed.end(), v) == allowed.end())
     throw config_error(file_, node_[key], "'" + key + "' must be one of " + join(allowed) + ", not '" + v + "'");
   return v;
+}
+
+bool Params::on(const std::string& key, bool fallback) const {
+  if (!node_ || !node_[key]) return fallback;
+  const std::string v = config_text(file_, node_[key], key);
+  if (v == "on" || v == "true") return true;
+  if (v == "off" || v == "false") return false;
+  throw config_error(file_, node_[key], "'" + key + "' must be on or off (or true or false), not '" + v + "'");
 }
 
 std::string Params::string(const std::string& key, const std::string& fallback) const {

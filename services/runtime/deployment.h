@@ -78,6 +78,7 @@ struct Deployment {
   std::string security;     // DDS Security credentials folder, from the file's folder; "" = off
   std::string security_where;  // "FILE:LINE:COL" of its section, for errors about it
   std::vector<ServiceSpec> services;
+  std::string services_where;  // "FILE:LINE:COL" of 'services' (1:1 when absent), for errors about them
 };
 
 // Reads and validates a whole deployment file. Throws ConfigError on the
@@ -105,6 +106,9 @@ class Params {
   int whole(const std::string& key, int fallback, int lo, int hi) const;
   // The string at `key`, or `fallback` when absent; must be one of `allowed`.
   std::string text(const std::string& key, const std::string& fallback, const std::vector<std::string>& allowed) const;
+  // The switch at `key`, or `fallback` when absent: on or off, or YAML's
+  // true or false (what a file written back by a YAML library says).
+  bool on(const std::string& key, bool fallback) const;
   // The string at `key`, or `fallback` when absent; any value.
   std::string string(const std::string& key, const std::string& fallback) const;
   // The file path at `key`, relative paths taken from the deployment

@@ -22,10 +22,6 @@ namespace {
 // Frames of another size are named one by one up to this many, then counted.
 constexpr int kNamedSkips = 5;
 
-bool on(const Params& p, const std::string& key, bool fallback) {
-  return p.text(key, fallback ? "on" : "off", {"on", "off"}) == "on";
-}
-
 vision::TrackerParams tracker_params(const Params& p) {
   vision::TrackerParams t;
   vision::DetectorParams& d = t.detector;
@@ -33,11 +29,11 @@ vision::TrackerParams tracker_params(const Params& p) {
   d.quad_decimate = p.number("quad_decimate", d.quad_decimate, 1, 8);
   d.quad_sigma = p.number("quad_sigma", d.quad_sigma, -5, 5);
   d.nthreads = p.whole("nthreads", d.nthreads, 1, 64);
-  d.refine_edges = on(p, "refine_edges", d.refine_edges);
+  d.refine_edges = p.on("refine_edges", d.refine_edges);
   d.decode_sharpening = p.number("decode_sharpening", d.decode_sharpening, 0, 10);
   d.max_hamming = p.whole("max_hamming", d.max_hamming, 0, 3);
-  d.refine_corners = on(p, "refine_corners", d.refine_corners);
-  t.pose.refine = on(p, "refine_pose", t.pose.refine);
+  d.refine_corners = p.on("refine_corners", d.refine_corners);
+  t.pose.refine = p.on("refine_pose", t.pose.refine);
   t.tag_size = p.number("tag_size", t.tag_size, 1e-3, 10);
   return t;
 }
@@ -50,7 +46,7 @@ vision::Orbit orbit_params(const Params& p) {
   o.tilt_deg = p.number("tilt", o.tilt_deg, 0, 79);
   o.base_tilt_deg = p.number("base_tilt", o.base_tilt_deg, 0, 79 - o.tilt_deg);
   o.period = p.number("period", o.period, 0.1, 1e6);
-  o.upright = p.text("upright", "off", {"on", "off"}) == "on";
+  o.upright = p.on("upright", false);
   o.sweep_deg = p.number("sweep", o.sweep_deg, 0, 179);
   return o;
 }
@@ -64,7 +60,7 @@ int run(int argc, char** argv) {
                 "refine_corners", "refine_pose", "frames", "loop", "sheet", "orbit"});
   const std::string kind = p.text("source", "synthetic", {"synthetic", "folder", "video", "v4l2"});
   const vision::TrackerParams tp = tracker_params(p);
-  const bool publish_frames = on(p, "frames", true), loop = on(p, "loop", false);
+  const bool publish_frames = p.on("frames", true), loop = p.on("loop", false);
   const int width = p.whole("width", 640, 16, 8192), height = p.whole("height", 480, 16, 8192);
   const std::string camera_file = p.path("camera");
 

@@ -1,11 +1,17 @@
 # Lockstep runs are reproducible across processes: deploy/press.yaml
-# (the virtual user presses the hybrid cube through the simulated Omni) run
-# twice for 2 s with --record exports the same DeformedMesh, ForceFeedback
-# and HapticState lines, bit for bit, though DDS delivers samples in its
-# own order each time. The press reaches the cube, so the outputs depend on
-# the exchange between the two services.
+# (the virtual user presses the hybrid cube through the simulated Omni),
+# with a sheet and a dome beside the cube, run twice for 2 s with --record
+# exports the same DeformedMesh, ForceFeedback and HapticState lines, bit
+# for bit, though DDS delivers samples in its own order each time (the
+# three objects' meshes of one step too: export orders them by key). The
+# press reaches the cube, so the outputs depend on the exchange between
+# the two services.
 source "$(dirname "$0")/lib.sh"
 from_deploy press.yaml
+sed -i '/- {name: cube, kind: deformable/a\
+    - {name: sheet, kind: deformable, model: sheet, centre: [0.12, 0, 0.02], size: 0.04}\
+    - {name: dome, kind: deformable, model: semisphere, centre: [-0.12, 0, 0], size: 0.02}' "$WORK/press.yaml"
+grep -q "name: dome" "$WORK/press.yaml" || fail "the sheet and dome were not added: $(cat "$WORK/press.yaml")"
 for run in 1 2; do
   limit 90 "$BIN/hcosim" up "$WORK/press.yaml" --mode lockstep --duration 2 --record "$WORK/run$run.rec" \
     --out "$WORK/out$run" >"$WORK/up$run.log" 2>&1 || fail "run $run: up exited $?"

@@ -66,4 +66,13 @@ printf 'services:\n  - {name: a, kind: warp_drive, rate: 5}\n' >"$WORK/bad2.yaml
 err=$("$BIN/hcosim" up "$WORK/bad2.yaml" 2>&1); code=$?
 [ $code -eq 2 ] || fail "unknown kind exited $code"
 echo "$err" | grep -q "bad2.yaml:2:1: no service of kind 'warp_drive' (known kinds: .*test_probe" || fail "message: $err"
+# A file with nothing to run is a mistake, not a run of the clock alone.
+printf 'mode: lockstep\nduration: 1\n' >"$WORK/empty.yaml"
+err=$("$BIN/hcosim" up "$WORK/empty.yaml" 2>&1); code=$?
+[ $code -eq 2 ] || fail "a file with no services exited $code: $err"
+echo "$err" | grep -q "empty.yaml:1:1: nothing to run: the deployment lists no services" || fail "message: $err"
+printf 'scene:\n  objects: []\nservices:\n  - {name: cam, kind: tracker, rate: 10}\n' >"$WORK/unneeded.yaml"
+err=$("$BIN/hcosim" up "$WORK/unneeded.yaml" 2>&1); code=$?
+[ $code -eq 2 ] || fail "a file whose scene needs no service exited $code: $err"
+echo "$err" | grep -q "unneeded.yaml:4:3: nothing to run: the scene needs none of its services" || fail "message: $err"
 echo "failure_test: ok (stopped in $ms ms)"

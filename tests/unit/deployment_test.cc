@@ -163,6 +163,24 @@ TEST(Params, RangeAndChoiceErrorsAreLocated) {
   EXPECT_NO_THROW(p.allow_only({"gain", "role"}));
 }
 
+// A file written back by a YAML library says true and false.
+TEST(Params, SwitchesTakeOnOffTrueAndFalse) {
+  const std::string f = write_file("switch.yaml", "services:\n  - name: a\n    kind: b\n    rate: 5\n"
+                                                  "    params: {a: on, b: off, c: true, d: false, e: yes}\n");
+  const Params p(f, load_deployment(f).services[0].params);
+  EXPECT_TRUE(p.on("a", false));
+  EXPECT_FALSE(p.on("b", true));
+  EXPECT_TRUE(p.on("c", false));
+  EXPECT_FALSE(p.on("d", true));
+  EXPECT_TRUE(p.on("absent", true));
+  try {
+    p.on("e", true);
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()), f + ":5:51: 'e' must be on or off (or true or false), not 'yes'");
+  }
+}
+
 TEST(Params, MapsAndNumberListsAreReadWithLocatedErrors) {
   const std::string f = write_file("lists.yaml", "services:\n  - name: a\n    kind: b\n    rate: 5\n"
                                                  "    params:\n      orbit: {distance: 0.3}\n      at: [1, 2.5]\n"
