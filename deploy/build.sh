@@ -17,10 +17,6 @@ if [ "${1:-}" = "--sanitize" ]; then
     rm -rf "${root:?}/$name"
   fi
 fi
-# ccache hits across clones of the tree (a fresh CI checkout): paths
-# under the root are hashed relative to it, and so is the build folder
-# that -g builds would otherwise hash.
-export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$root}" CCACHE_NOHASHDIR="${CCACHE_NOHASHDIR:-1}"
 log="$root/$name.log"
 "$root/deploy/setup.sh"
 cmake -S "$root" -B "$root/$name" -G Ninja "${args[@]}" > "$log" 2>&1 ||
