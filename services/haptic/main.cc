@@ -23,6 +23,7 @@
 #include "haptic/force_sum.h"
 #include "haptic/local_model.h"
 #include "haptic/passivity.h"
+#include "json.h"
 #include "service.h"
 
 using namespace hcosim;
@@ -237,13 +238,20 @@ int run(int argc, char** argv) {
   const double in_tick_ratio = with_sources ? double(in_tick) / double(with_sources) : 0;
   svc.set_haptic_figures(in_tick_ratio, error_n.percentile(0.99));
   if (!report.empty()) {
+    // Percentiles of no sample are NaN (no late answer: no error), which
+    // Json writes as null.
+    Json j;
+    j.begin_object();
+    j.key("ticks").value(std::uint64_t(seq)).key("answered").value(std::uint64_t(w.size()));
+    j.key("p50_us").value(w.percentile(0.5)).key("p99_us").value(w.percentile(0.99));
+    j.key("on_time_ratio").value(in_tick_ratio);
+    j.key("jitter_p50_us").value(jitter_us.percentile(0.5)).key("jitter_p99_us").value(jitter_us.percentile(0.99));
+    j.key("modelled").value(std::uint64_t(modelled)).key("covered").value(std::uint64_t(covered));
+    j.key("late_answers").value(std::uint64_t(error_n.size()));
+    j.key("force_error_p99_n").value(error_n.percentile(0.99)).key("peak_force_n").value(peak);
+    j.key("saturated").value(std::uint64_t(omni.saturated())).end_object();
     std::ofstream r(report);
-    r << "{\"ticks\":" << seq << ",\"answered\":" << w.size() << ",\"p50_us\":" << w.percentile(0.5)
-      << ",\"p99_us\":" << w.percentile(0.99) << ",\"on_time_ratio\":" << in_tick_ratio
-      << ",\"jitter_p50_us\":" << jitter_us.percentile(0.5) << ",\"jitter_p99_us\":" << jitter_us.percentile(0.99)
-      << ",\"modelled\":" << modelled << ",\"covered\":" << covered << ",\"late_answers\":" << error_n.size()
-      << ",\"force_error_p99_n\":" << error_n.percentile(0.99) << ",\"peak_force_n\":" << peak
-      << ",\"saturated\":" << omni.saturated() << "}\n";
+    r << j.str() << "\n";
     if (!r) throw std::runtime_error("cannot write " + report);
   }
   std::printf("%s: %llu ticks, %zu answered, round trip p50 %.0f us p99 %.0f us, %.4f on time, %llu saturated, "

@@ -109,7 +109,7 @@ int export_recording(const std::vector<std::string>& argv) {
       std::printf("%s\n", h.c_str());
     }
     std::string row;
-    for (std::size_t i = 0; i < cells.size(); ++i) row += (i ? "," : "") + csv_field(cells[i].second);
+    for (std::size_t c = 0; c < cells.size(); ++c) row += (c ? "," : "") + csv_field(cells[c].second);
     std::printf("%s\n", row.c_str());
   }
   std::cerr << "hcosim export: " << records.size() << " " << topic << " samples of " << total << " in "
