@@ -38,12 +38,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The number after "key": in a one-line JSON report.
+// The number after "key": in a one-line JSON report; null (a figure of
+// no sample, such as the error of no late answer) is NaN.
 double field(const std::string& json, const std::string& key) {
   std::smatch m;
-  if (!std::regex_search(json, m, std::regex("\"" + key + "\":([-0-9.eE+]+|nan|inf)")))
+  if (!std::regex_search(json, m, std::regex("\"" + key + "\":([-0-9.eE+]+|null)")))
     throw std::runtime_error("bench haptic: no '" + key + "' in the device's report: " + json);
-  return std::stod(m[1]);
+  return m[1] == "null" ? NAN : std::stod(m[1]);
 }
 
 Row closed_loop(const Context& c, double seconds) {
