@@ -57,22 +57,20 @@ for pid in $(sed -nE 's/.*started +[a-z]+ +pid ([0-9]+).*/\1/p' "$WORK/up3.log")
   alive "$pid" && fail "process $pid still running after up exited"
 done
 
-# A bad file starts nothing and says where the problem is.
-printf 'domain: 1\nservices:\n  - {name: a, kind: test_probe, rte: 5}\n' >"$WORK/bad.yaml"
-err=$("$BIN/hcosim" up "$WORK/bad.yaml" 2>&1); code=$?
-[ $code -eq 2 ] || fail "bad file exited $code"
-echo "$err" | grep -q "bad.yaml:3:33: unknown key 'rte'; did you mean 'rate'?" || fail "message: $err"
-printf 'services:\n  - {name: a, kind: warp_drive, rate: 5}\n' >"$WORK/bad2.yaml"
-err=$("$BIN/hcosim" up "$WORK/bad2.yaml" 2>&1); code=$?
-[ $code -eq 2 ] || fail "unknown kind exited $code"
-echo "$err" | grep -q "bad2.yaml:2:1: no service of kind 'warp_drive' (known kinds: .*test_probe" || fail "message: $err"
+# A bad file starts nothing: up exits 2 and says where the problem is.
+refused() {  # NAME YAML MESSAGE
+  printf '%b' "$2" >"$WORK/$1.yaml"
+  local err code
+  err=$("$BIN/hcosim" up "$WORK/$1.yaml" 2>&1); code=$?
+  [ $code -eq 2 ] || fail "$1.yaml exited $code, not 2: $err"
+  echo "$err" | grep -q -- "$1.yaml:$3" || fail "$1.yaml: expected '$3': $err"
+}
+refused bad 'domain: 1\nservices:\n  - {name: a, kind: test_probe, rte: 5}\n' \
+  "3:33: unknown key 'rte'; did you mean 'rate'?"
+refused bad2 'services:\n  - {name: a, kind: warp_drive, rate: 5}\n' \
+  "2:1: no service of kind 'warp_drive' (known kinds: .*test_probe"
 # A file with nothing to run is a mistake, not a run of the clock alone.
-printf 'mode: lockstep\nduration: 1\n' >"$WORK/empty.yaml"
-err=$("$BIN/hcosim" up "$WORK/empty.yaml" 2>&1); code=$?
-[ $code -eq 2 ] || fail "a file with no services exited $code: $err"
-echo "$err" | grep -q "empty.yaml:1:1: nothing to run: the deployment lists no services" || fail "message: $err"
-printf 'scene:\n  objects: []\nservices:\n  - {name: cam, kind: tracker, rate: 10}\n' >"$WORK/unneeded.yaml"
-err=$("$BIN/hcosim" up "$WORK/unneeded.yaml" 2>&1); code=$?
-[ $code -eq 2 ] || fail "a file whose scene needs no service exited $code: $err"
-echo "$err" | grep -q "unneeded.yaml:4:3: nothing to run: the scene needs none of its services" || fail "message: $err"
+refused empty 'mode: lockstep\nduration: 1\n' "1:1: nothing to run: the deployment lists no services"
+refused unneeded 'scene:\n  objects: []\nservices:\n  - {name: cam, kind: tracker, rate: 10}\n' \
+  "4:3: nothing to run: the scene needs none of its services"
 echo "failure_test: ok (stopped in $ms ms)"
