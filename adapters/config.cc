@@ -46,11 +46,15 @@ std::string config_text(const std::string& file, const YAML::Node& node, const s
   return node.Scalar();
 }
 
-ConfigError config_error(const std::string& file, const YAML::Node& node, const std::string& what) {
+std::string config_where(const std::string& file, const YAML::Node& node) {
   const auto m = node.Mark();
   // A node made by the program (a default, or a scene's part) has no place in the file.
-  if (m.is_null()) return ConfigError(file + ": " + what);
-  return ConfigError(file + ":" + std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1) + ": " + what);
+  if (m.is_null()) return file;
+  return file + ":" + std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1);
+}
+
+ConfigError config_error(const std::string& file, const YAML::Node& node, const std::string& what) {
+  return ConfigError(config_where(file, node) + ": " + what);
 }
 
 void check_keys(const std::string& file, const YAML::Node& map, const std::vector<std::string>& allowed) {

@@ -16,6 +16,10 @@ class ConfigError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// "FILE:LINE:COL" of a node (1-based line and column); "FILE" for a node
+// the program made.
+std::string config_where(const std::string& file, const YAML::Node& node);
+
 // "FILE:LINE:COL: what" for a node (1-based line and column).
 ConfigError config_error(const std::string& file, const YAML::Node& node, const std::string& what);
 

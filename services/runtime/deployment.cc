@@ -224,12 +224,12 @@ Deployment load_deployment(const std::string& path) {
     if (dir.empty()) throw config_error(path, n["dir"], "'dir' must name a folder");
     if (dir.is_relative()) dir = fs::path(path).parent_path() / dir;
     d.security = dir.lexically_normal().string();
-    d.security_where = path + ":" + std::to_string(n.Mark().line + 1) + ":" + std::to_string(n.Mark().column + 1);
+    d.security_where = config_where(path, n);
   }
   if (auto n = root["scene"]) d.scene = parse_scene(path, n);
   if (auto n = root["services"]) {
     if (!n.IsSequence()) throw config_error(path, n, "'services' must be a list");
-    d.services_where = path + ":" + std::to_string(n.Mark().line + 1) + ":" + std::to_string(n.Mark().column + 1);
+    d.services_where = config_where(path, n);
     std::set<std::string> names;
     for (const auto& s : n) {
       ServiceSpec spec = parse_service(path, s);
