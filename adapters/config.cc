@@ -1,10 +1,10 @@
-#include "config.h"
+#include "adapters/config.h"
 
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 
-namespace hcosim {
+namespace hcosim::adapters {
 namespace {
 
 // Edit distance between two keys, for "did you mean" hints.
@@ -81,4 +81,4 @@ YAML::Node load_yaml(const std::string& path) {
   }
 }
 
-}  // namespace hcosim
+}  // namespace hcosim::adapters

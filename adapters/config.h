@@ -8,7 +8,7 @@
 
 #include <yaml-cpp/yaml.h>
 
-namespace hcosim {
+namespace hcosim::adapters {
 
 // A configuration problem, with its message already as "FILE:LINE:COL: what".
 class ConfigError : public std::runtime_error {
@@ -36,4 +36,4 @@ std::string config_text(const std::string& file, const YAML::Node& node, const s
 // ", "-joined items, for messages.
 std::string join(const std::vector<std::string>& items);
 
-}  // namespace hcosim
+}  // namespace hcosim::adapters

@@ -1,6 +1,6 @@
-#include "idl_json.h"
+#include "adapters/idl_json.h"
 
-namespace hcosim {
+namespace hcosim::adapters {
 namespace {
 
 template <class Seq>
@@ -169,4 +169,4 @@ void write_json(Json& j, const StepDone& s) {
   j.key("step").value(s.step()).end_object();
 }
 
-}  // namespace hcosim
+}  // namespace hcosim::adapters

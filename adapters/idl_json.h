@@ -3,15 +3,15 @@
 
 #include <string>
 
-#include "hcosim/idl/clock.h"
-#include "hcosim/idl/haptic.h"
-#include "hcosim/idl/mesh.h"
-#include "hcosim/idl/rigid.h"
-#include "hcosim/idl/status.h"
-#include "hcosim/idl/vision.h"
-#include "json.h"
+#include "idl/clock.h"
+#include "idl/haptic.h"
+#include "idl/mesh.h"
+#include "idl/rigid.h"
+#include "idl/status.h"
+#include "idl/vision.h"
+#include "adapters/json.h"
 
-namespace hcosim {
+namespace hcosim::adapters {
 
 // Field names and nesting follow the IDL exactly; byte sequences (image
 // data) are summarised as their length to keep lines readable.
@@ -39,4 +39,4 @@ std::string to_json(const T& sample) {
   return j.str();
 }
 
-}  // namespace hcosim
+}  // namespace hcosim::adapters

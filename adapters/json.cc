@@ -1,10 +1,10 @@
-#include "json.h"
+#include "adapters/json.h"
 
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 
-namespace hcosim {
+namespace hcosim::adapters {
 
 void Json::separate() {
   if (after_key_) {
@@ -103,4 +103,4 @@ Json& Json::null() {
   return *this;
 }
 
-}  // namespace hcosim
+}  // namespace hcosim::adapters

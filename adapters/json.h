@@ -6,7 +6,7 @@
 #include <string_view>
 #include <vector>
 
-namespace hcosim {
+namespace hcosim::adapters {
 
 // Appends JSON tokens to a string, placing commas itself. Non-finite
 // numbers become null (JSON has no NaN); doubles use the shortest text that
@@ -42,4 +42,4 @@ class Json {
   bool after_key_ = false;
 };
 
-}  // namespace hcosim
+}  // namespace hcosim::adapters

@@ -1,10 +1,10 @@
-#include "validate.h"
+#include "adapters/validate.h"
 
 #include <cmath>
 
 #include <Eigen/Core>
 
-namespace hcosim {
+namespace hcosim::adapters {
 namespace {
 
 using Problem = std::optional<std::string>;
@@ -178,4 +178,4 @@ Problem validate(const StepDone& s) {
   return std::nullopt;
 }
 
-}  // namespace hcosim
+}  // namespace hcosim::adapters

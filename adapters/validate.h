@@ -5,14 +5,14 @@
 #include <optional>
 #include <string>
 
-#include "hcosim/idl/clock.h"
-#include "hcosim/idl/haptic.h"
-#include "hcosim/idl/mesh.h"
-#include "hcosim/idl/rigid.h"
-#include "hcosim/idl/status.h"
-#include "hcosim/idl/vision.h"
+#include "idl/clock.h"
+#include "idl/haptic.h"
+#include "idl/mesh.h"
+#include "idl/rigid.h"
+#include "idl/status.h"
+#include "idl/vision.h"
 
-namespace hcosim {
+namespace hcosim::adapters {
 
 // Bounds past which a value is not a measurement but a fault. They are far
 // outside any physical haptic AR rig, so they never clip a real sample.
@@ -38,4 +38,4 @@ std::optional<std::string> validate(const ServiceStatus& s);
 std::optional<std::string> validate(const ClockTick& s);
 std::optional<std::string> validate(const StepDone& s);
 
-}  // namespace hcosim
+}  // namespace hcosim::adapters

@@ -1,4 +1,4 @@
-#include "deformable/map_cache.h"
+#include "adapters/deformable/map_cache.h"
 
 #include <cstdint>
 #include <cstdio>
@@ -7,7 +7,7 @@
 
 #include <unistd.h>
 
-namespace hcosim::deformable {
+namespace hcosim::adapters::deformable {
 namespace {
 
 namespace fs = std::filesystem;
@@ -26,11 +26,11 @@ struct Hash {
   }
 };
 
-std::uint64_t key(const HybridSpec& spec, const Eigen::Matrix3Xd& cage, const std::vector<Eigen::Vector3i>& triangles,
+std::uint64_t key(const models::deformable::HybridSpec& spec, const Eigen::Matrix3Xd& cage, const std::vector<Eigen::Vector3i>& triangles,
                   const Eigen::Matrix3Xd& points) {
   Hash h;
   h.value(int(spec.map));
-  h.value(spec.map == VisualMap::mvc_sparse ? spec.keep : 1.0);
+  h.value(spec.map == models::deformable::VisualMap::mvc_sparse ? spec.keep : 1.0);
   h.value(cage.cols());
   h.bytes(cage.data(), sizeof(double) * cage.size());
   h.value(triangles.size());
@@ -41,7 +41,7 @@ std::uint64_t key(const HybridSpec& spec, const Eigen::Matrix3Xd& cage, const st
 }
 
 // The map in `path`, if it is one of rows x cols; else an empty matrix.
-Weights read(const fs::path& path, Eigen::Index rows, Eigen::Index cols) {
+models::deformable::Weights read(const fs::path& path, Eigen::Index rows, Eigen::Index cols) {
   std::ifstream in(path, std::ios::binary);
   std::uint64_t magic = 0;
   std::int64_t r = 0, c = 0, nnz = 0;
@@ -60,7 +60,7 @@ Weights read(const fs::path& path, Eigen::Index rows, Eigen::Index cols) {
     if (outer[i] > outer[i + 1]) return {};
   for (int j : inner)
     if (j < 0 || j >= cols) return {};
-  Weights w(rows, cols);
+  models::deformable::Weights w(rows, cols);
   std::vector<Eigen::Triplet<double>> t;
   t.reserve(values.size());
   for (Eigen::Index i = 0; i < rows; ++i)
@@ -70,7 +70,7 @@ Weights read(const fs::path& path, Eigen::Index rows, Eigen::Index cols) {
   return w;
 }
 
-void write(const fs::path& path, Weights w) {
+void write(const fs::path& path, models::deformable::Weights w) {
   w.makeCompressed();
   const fs::path tmp = path.string() + "." + std::to_string(::getpid()) + ".tmp";
   {
@@ -94,16 +94,16 @@ void write(const fs::path& path, Weights w) {
 
 }  // namespace
 
-MapSource map_cache(const std::string& dir, const HybridSpec& spec) {
+models::deformable::MapSource map_cache(const std::string& dir, const models::deformable::HybridSpec& spec) {
   return [dir, spec](const Eigen::Matrix3Xd& cage, const std::vector<Eigen::Vector3i>& triangles,
                      const Eigen::Matrix3Xd& points) {
     char name[32];
     std::snprintf(name, sizeof name, "map-%016llx.bin",
                   static_cast<unsigned long long>(key(spec, cage, triangles, points)));
     const fs::path path = fs::path(dir) / name;
-    Weights w = read(path, points.cols(), cage.cols());
+    models::deformable::Weights w = read(path, points.cols(), cage.cols());
     if (w.rows() == points.cols()) return w;
-    w = mvc_map(spec, cage, triangles, points);
+    w = models::deformable::mvc_map(spec, cage, triangles, points);
     std::error_code ec;
     fs::create_directories(dir, ec);
     write(path, w);
@@ -111,4 +111,4 @@ MapSource map_cache(const std::string& dir, const HybridSpec& spec) {
   };
 }
 
-}  // namespace hcosim::deformable
+}  // namespace hcosim::adapters::deformable

@@ -1,4 +1,4 @@
-// A folder of visual maps (deformable::mvc_map) kept between runs: a
+// A folder of visual maps (models::deformable::mvc_map) kept between runs: a
 // restarted deformable service reads its hybrid objects' maps instead of
 // computing them again (about a second each at seed scale, where the
 // restart should take well under 2 s; docs/deformable.md).
@@ -6,9 +6,9 @@
 
 #include <string>
 
-#include "deformable/hybrid.h"
+#include "models/deformable/hybrid.h"
 
-namespace hcosim::deformable {
+namespace hcosim::adapters::deformable {
 
 // A MapSource that returns the map from DIR/map-KEY.bin when that file
 // holds it, KEY a 64-bit hash of every input of mvc_map (the cage, its
@@ -16,6 +16,6 @@ namespace hcosim::deformable {
 // it and writes that file (whole or not at all: written beside it, then
 // renamed). A file that cannot be read as a map of the right shape is
 // computed again and replaced. `dir` is made if missing.
-MapSource map_cache(const std::string& dir, const HybridSpec& spec);
+models::deformable::MapSource map_cache(const std::string& dir, const models::deformable::HybridSpec& spec);
 
-}  // namespace hcosim::deformable
+}  // namespace hcosim::adapters::deformable

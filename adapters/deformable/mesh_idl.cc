@@ -1,8 +1,8 @@
-#include "deformable/mesh_idl.h"
+#include "adapters/deformable/mesh_idl.h"
 
-#include "deformable/surface.h"
+#include "models/deformable/surface.h"
 
-namespace hcosim::deformable {
+namespace hcosim::adapters::deformable {
 
 MeshTopology mesh_topology(const std::string& mesh, int vertex_count, const std::vector<Eigen::Vector3i>& triangles) {
   MeshTopology t;
@@ -20,7 +20,7 @@ void fill_mesh(DeformedMesh& out, const std::string& mesh, const StepStamp& stam
   out.mesh(mesh);
   out.stamp(stamp);
   out.topology_version(1);
-  const Eigen::Matrix3Xd n = vertex_normals(x, triangles);
+  const Eigen::Matrix3Xd n = models::deformable::vertex_normals(x, triangles);
   auto& p = out.positions();
   auto& q = out.normals();
   p.resize(3 * x.cols()), q.resize(3 * x.cols());
@@ -28,4 +28,4 @@ void fill_mesh(DeformedMesh& out, const std::string& mesh, const StepStamp& stam
   Eigen::Map<Eigen::Matrix3Xf>(q.data(), 3, x.cols()) = n.cast<float>();
 }
 
-}  // namespace hcosim::deformable
+}  // namespace hcosim::adapters::deformable

@@ -7,10 +7,10 @@
 
 #include <Eigen/Core>
 
-#include "deformable/object.h"
-#include "hcosim/idl/mesh.h"
+#include "models/deformable/object.h"
+#include "idl/mesh.h"
 
-namespace hcosim::deformable {
+namespace hcosim::adapters::deformable {
 
 // Version 1 of an object's topology.
 MeshTopology mesh_topology(const std::string& mesh, int vertex_count, const std::vector<Eigen::Vector3i>& triangles);
@@ -19,4 +19,4 @@ MeshTopology mesh_topology(const std::string& mesh, int vertex_count, const std:
 void fill_mesh(DeformedMesh& out, const std::string& mesh, const StepStamp& stamp, const Eigen::Matrix3Xd& x,
                const std::vector<Eigen::Vector3i>& triangles);
 
-}  // namespace hcosim::deformable
+}  // namespace hcosim::adapters::deformable

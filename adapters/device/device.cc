@@ -1,12 +1,12 @@
-#include "device/device.h"
+#include "adapters/device/device.h"
 
-namespace hcosim::device {
+namespace hcosim::adapters::device {
 
-Device::Device(const haptic::OmniSpec& spec) : spec_(spec) { haptic::check(spec_); }
+Device::Device(const models::haptic::OmniSpec& spec) : spec_(spec) { models::haptic::check(spec_); }
 
 Eigen::Vector3d Device::end_frame(const Eigen::Vector3d& force) {
   bool saturated = false;
-  const Eigen::Vector3d out = haptic::clamp_force(spec_, force, &saturated);
+  const Eigen::Vector3d out = models::haptic::clamp_force(spec_, force, &saturated);
   ++frames_;
   saturated_ += saturated;
   over_continuous_ += out.norm() > spec_.continuous_force;
@@ -14,4 +14,4 @@ Eigen::Vector3d Device::end_frame(const Eigen::Vector3d& force) {
   return out;
 }
 
-}  // namespace hcosim::device
+}  // namespace hcosim::adapters::device

@@ -12,9 +12,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "haptic/omni.h"
+#include "models/haptic/omni.h"
 
-namespace hcosim::device {
+namespace hcosim::adapters::device {
 
 struct Frame {
   double time_s = 0;                                        // device clock, s since start
@@ -26,7 +26,7 @@ struct Frame {
 
 class Device {
  public:
-  explicit Device(const haptic::OmniSpec& spec);
+  explicit Device(const models::haptic::OmniSpec& spec);
   virtual ~Device() = default;
   Device(const Device&) = delete;
   Device& operator=(const Device&) = delete;
@@ -42,7 +42,7 @@ class Device {
   // True once a replay or script has nothing more to play.
   virtual bool finished() const { return false; }
 
-  const haptic::OmniSpec& spec() const { return spec_; }
+  const models::haptic::OmniSpec& spec() const { return spec_; }
   std::uint64_t frames() const { return frames_; }
   std::uint64_t saturated() const { return saturated_; }
   std::uint64_t over_continuous() const { return over_continuous_; }  // ticks above the continuous force
@@ -52,8 +52,8 @@ class Device {
   virtual void write_force(const Eigen::Vector3d& force) = 0;
 
  private:
-  haptic::OmniSpec spec_;
+  models::haptic::OmniSpec spec_;
   std::uint64_t frames_ = 0, saturated_ = 0, over_continuous_ = 0;
 };
 
-}  // namespace hcosim::device
+}  // namespace hcosim::adapters::device

@@ -1,8 +1,8 @@
-#include "device/haptic_idl.h"
+#include "adapters/device/haptic_idl.h"
 
 #include <algorithm>
 
-namespace hcosim::device {
+namespace hcosim::adapters::device {
 
 HapticState haptic_state(const std::string& device, std::uint64_t seq, const StepStamp& stamp, const Frame& f,
                          const Eigen::Vector3d& rendered) {
@@ -22,7 +22,7 @@ HapticState haptic_state(const std::string& device, std::uint64_t seq, const Ste
 
 Feel contact_feel(const Eigen::Vector3d& force, const Eigen::Vector3d& position, const Eigen::Vector3d& normal,
                   double k, double depth, double radius) {
-  const haptic::LocalModel m = haptic::contact_model(force, position, normal, k, radius);
+  const models::haptic::LocalModel m = models::haptic::contact_model(force, position, normal, k, radius);
   Feel f;
   f.force = force;
   f.in_contact = true;
@@ -65,11 +65,11 @@ Feel free_feel(const Eigen::Vector3d& position, double clearance) {
 bool answer_covered(const Feel& last, std::uint64_t last_seq, const Eigen::Vector3d& hip, std::uint64_t seq,
                     double servo_dt) {
   if (last.in_contact || !(last.radius > 0) || seq < last_seq) return false;
-  return double(seq - last_seq) * servo_dt <= 0.5 * haptic::kFreeHorizonS && (hip - last.position).norm() < last.radius;
+  return double(seq - last_seq) * servo_dt <= 0.5 * models::haptic::kFreeHorizonS && (hip - last.position).norm() < last.radius;
 }
 
-haptic::LocalModel local_model(const ForceFeedback& f) {
-  haptic::LocalModel m;
+models::haptic::LocalModel local_model(const ForceFeedback& f) {
+  models::haptic::LocalModel m;
   m.force = from_idl(f.force());
   m.position = from_idl(f.position());
   for (int r = 0; r < 3; ++r)
@@ -79,4 +79,4 @@ haptic::LocalModel local_model(const ForceFeedback& f) {
   return m;
 }
 
-}  // namespace hcosim::device
+}  // namespace hcosim::adapters::device

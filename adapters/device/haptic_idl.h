@@ -6,11 +6,11 @@
 
 #include <Eigen/Core>
 
-#include "device/device.h"
-#include "haptic/local_model.h"
-#include "hcosim/idl/haptic.h"
+#include "adapters/device/device.h"
+#include "models/haptic/local_model.h"
+#include "idl/haptic.h"
 
-namespace hcosim::device {
+namespace hcosim::adapters::device {
 
 inline Eigen::Vector3d from_idl(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
@@ -42,7 +42,7 @@ struct Feel {
 inline constexpr double kContactModelRadius = 0.002;  // m
 
 // A penalty contact's feel: `force` at `position`, stiffness k along the
-// unit `normal` (haptic::contact_model), trusted within `radius`.
+// unit `normal` (models::haptic::contact_model), trusted within `radius`.
 Feel contact_feel(const Eigen::Vector3d& force, const Eigen::Vector3d& position, const Eigen::Vector3d& normal,
                   double k, double depth, double radius);
 
@@ -53,7 +53,7 @@ Feel free_feel(const Eigen::Vector3d& position, double clearance);
 
 // Whether a source in real time may leave state `seq` (HIP at `hip`)
 // unanswered: its last answer, to state `last_seq`, was a free-space model
-// that covers the HIP (haptic::covers), given at most half of
+// that covers the HIP (models::haptic::covers), given at most half of
 // haptic::kFreeHorizonS ago. The device renders that model exactly without
 // waiting, and the answers every half horizon keep the source fresh there.
 bool answer_covered(const Feel& last, std::uint64_t last_seq, const Eigen::Vector3d& hip, std::uint64_t seq,
@@ -64,6 +64,6 @@ ForceFeedback force_feedback(const std::string& source, const std::string& devic
                              const StepStamp& stamp, const Feel& feel);
 
 // The local model an answer carries.
-haptic::LocalModel local_model(const ForceFeedback& f);
+models::haptic::LocalModel local_model(const ForceFeedback& f);
 
-}  // namespace hcosim::device
+}  // namespace hcosim::adapters::device

@@ -1,4 +1,4 @@
-#include "device/replay.h"
+#include "adapters/device/replay.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
-namespace hcosim::device {
+namespace hcosim::adapters::device {
 
 std::vector<Sample> load_trajectory(const std::string& path) {
   std::ifstream in(path);
@@ -36,7 +36,7 @@ std::vector<Sample> load_trajectory(const std::string& path) {
   return out;
 }
 
-Replay::Replay(const haptic::OmniSpec& spec, std::vector<Sample> trajectory)
+Replay::Replay(const models::haptic::OmniSpec& spec, std::vector<Sample> trajectory)
     : Device(spec), samples_(std::move(trajectory)) {
   if (samples_.empty()) throw std::invalid_argument("replay: empty trajectory");
 }
@@ -62,4 +62,4 @@ Frame Replay::read_frame() {
   return f;
 }
 
-}  // namespace hcosim::device
+}  // namespace hcosim::adapters::device

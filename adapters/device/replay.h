@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "device/device.h"
+#include "adapters/device/device.h"
 
-namespace hcosim::device {
+namespace hcosim::adapters::device {
 
 struct Sample {
   double t;
@@ -24,7 +24,7 @@ std::vector<Sample> load_trajectory(const std::string& path);
 
 class Replay : public Device {
  public:
-  Replay(const haptic::OmniSpec& spec, std::vector<Sample> trajectory);
+  Replay(const models::haptic::OmniSpec& spec, std::vector<Sample> trajectory);
 
   bool finished() const override { return now() > samples_.back().t + 1e-9; }
 
@@ -40,4 +40,4 @@ class Replay : public Device {
   std::vector<Sample> samples_;
 };
 
-}  // namespace hcosim::device
+}  // namespace hcosim::adapters::device

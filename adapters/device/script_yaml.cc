@@ -1,10 +1,10 @@
-#include "device/script_yaml.h"
+#include "adapters/device/script_yaml.h"
 
 #include <cmath>
 
-#include "config.h"
+#include "adapters/config.h"
 
-namespace hcosim::device {
+namespace hcosim::adapters::device {
 namespace {
 
 Eigen::Vector3d vec3(const std::string& file, const YAML::Node& n, const std::string& key) {
@@ -12,14 +12,14 @@ Eigen::Vector3d vec3(const std::string& file, const YAML::Node& n, const std::st
   return {config_number(file, n[0], key), config_number(file, n[1], key), config_number(file, n[2], key)};
 }
 
-haptic::Action action(const std::string& file, const YAML::Node& item) {
-  using K = haptic::Action::Kind;
+models::haptic::Action action(const std::string& file, const YAML::Node& item) {
+  using K = models::haptic::Action::Kind;
   const std::vector<std::string> kinds{"move_to", "press", "hold", "stroke", "tap", "release"};
   if (!item.IsMap() || item.size() != 1)
     throw config_error(file, item, "each action is a one-key map, one of " + join(kinds));
   const std::string kind = item.begin()->first.Scalar();
   const YAML::Node body = item.begin()->second;
-  haptic::Action a;
+  models::haptic::Action a;
   a.line = item.Mark().line + 1;
   std::vector<std::string> keys;
   if (kind == "move_to") a.kind = K::move_to, keys = {"to", "speed"};
@@ -48,17 +48,17 @@ haptic::Action action(const std::string& file, const YAML::Node& item) {
       throw config_error(file, body["buttons"], "'buttons' is a bit mask of the Omni's buttons, a whole number 0..15");
     a.buttons = unsigned(b);
   }
-  if (const std::string p = haptic::problem(a); !p.empty()) throw config_error(file, item, kind + ": " + p);
+  if (const std::string p = models::haptic::problem(a); !p.empty()) throw config_error(file, item, kind + ": " + p);
   return a;
 }
 
 }  // namespace
 
-haptic::Script load_script(const std::string& path) {
+models::haptic::Script load_script(const std::string& path) {
   const YAML::Node root = load_yaml(path);
   if (!root.IsMap()) throw ConfigError(path + ":1:1: a script must be a YAML map with start and actions");
   check_keys(path, root, {"start", "actions"});
-  haptic::Script s;
+  models::haptic::Script s;
   if (root["start"]) s.start = vec3(path, root["start"], "start");
   const YAML::Node actions = root["actions"];
   if (!actions || !actions.IsSequence()) throw ConfigError(path + ":1:1: a script needs a list of 'actions'");
@@ -66,4 +66,4 @@ haptic::Script load_script(const std::string& path) {
   return s;
 }
 
-}  // namespace hcosim::device
+}  // namespace hcosim::adapters::device

@@ -12,12 +12,12 @@
 
 #include <string>
 
-#include "haptic/virtual_user.h"
+#include "models/haptic/virtual_user.h"
 
-namespace hcosim::device {
+namespace hcosim::adapters::device {
 
 // Throws hcosim::ConfigError as "FILE:LINE:COL: what" for anything it
 // cannot read or that makes no sense.
-haptic::Script load_script(const std::string& path);
+models::haptic::Script load_script(const std::string& path);
 
-}  // namespace hcosim::device
+}  // namespace hcosim::adapters::device

@@ -1,17 +1,17 @@
-#include "device/simulated_omni.h"
+#include "adapters/device/simulated_omni.h"
 
 #include <cmath>
 
-namespace hcosim::device {
+namespace hcosim::adapters::device {
 
 namespace {
 constexpr double kVelocityCutoffHz = 50;  // first-order filter on encoder differences
 }
 
-SimulatedOmni::SimulatedOmni(const haptic::OmniSpec& spec, const haptic::Hand& hand, haptic::Script script)
+SimulatedOmni::SimulatedOmni(const models::haptic::OmniSpec& spec, const models::haptic::Hand& hand, models::haptic::Script script)
     : Device(spec), hand_(hand), user_(std::move(script), 1 / spec.servo_hz), dt_(1 / spec.servo_hz) {
   tip_.x = target_ = user_.script().start;
-  reported_ = haptic::quantize(spec, tip_.x);
+  reported_ = models::haptic::quantize(spec, tip_.x);
 }
 
 Frame SimulatedOmni::read_frame() {
@@ -25,12 +25,12 @@ Frame SimulatedOmni::read_frame() {
 
 void SimulatedOmni::write_force(const Eigen::Vector3d& force) {
   target_ = user_.next(force);
-  haptic::step_tip(spec(), hand_, target_, force, dt_, tip_);
+  models::haptic::step_tip(spec(), hand_, target_, force, dt_, tip_);
   time_ += dt_;
-  const Eigen::Vector3d next = haptic::quantize(spec(), tip_.x);
+  const Eigen::Vector3d next = models::haptic::quantize(spec(), tip_.x);
   const double a = 1 - std::exp(-2 * M_PI * kVelocityCutoffHz * dt_);
   velocity_ += a * ((next - reported_) / dt_ - velocity_);
   reported_ = next;
 }
 
-}  // namespace hcosim::device
+}  // namespace hcosim::adapters::device

@@ -4,34 +4,34 @@
 // device's driver does.
 #pragma once
 
-#include "device/device.h"
-#include "haptic/virtual_user.h"
+#include "adapters/device/device.h"
+#include "models/haptic/virtual_user.h"
 
-namespace hcosim::device {
+namespace hcosim::adapters::device {
 
 class SimulatedOmni : public Device {
  public:
-  SimulatedOmni(const haptic::OmniSpec& spec, const haptic::Hand& hand, haptic::Script script);
+  SimulatedOmni(const models::haptic::OmniSpec& spec, const models::haptic::Hand& hand, models::haptic::Script script);
 
   bool finished() const override { return user_.done(); }
 
   // Ground truth, for tests and benchmarks: the tip's true state and the
   // hand's current target.
-  const haptic::Tip& tip() const { return tip_; }
+  const models::haptic::Tip& tip() const { return tip_; }
   const Eigen::Vector3d& target() const { return target_; }
-  const haptic::VirtualUser& user() const { return user_; }
+  const models::haptic::VirtualUser& user() const { return user_; }
 
  protected:
   Frame read_frame() override;
   void write_force(const Eigen::Vector3d& force) override;
 
  private:
-  haptic::Hand hand_;
-  haptic::VirtualUser user_;
-  haptic::Tip tip_;
+  models::haptic::Hand hand_;
+  models::haptic::VirtualUser user_;
+  models::haptic::Tip tip_;
   Eigen::Vector3d target_;
   Eigen::Vector3d reported_, velocity_ = Eigen::Vector3d::Zero();
   double dt_, time_ = 0;
 };
 
-}  // namespace hcosim::device
+}  // namespace hcosim::adapters::device

@@ -1,23 +1,23 @@
-#include "device/wall_rig.h"
+#include "adapters/device/wall_rig.h"
 
 #include <algorithm>
 #include <cmath>
 #include <deque>
 #include <stdexcept>
 
-#include "device/simulated_omni.h"
-#include "haptic/passivity.h"
+#include "adapters/device/simulated_omni.h"
+#include "models/haptic/passivity.h"
 
-namespace hcosim::device {
+namespace hcosim::adapters::device {
 
 namespace {
 
-haptic::Script press_script(const WallRig& r) {
-  using K = haptic::Action::Kind;
+models::haptic::Script press_script(const WallRig& r) {
+  using K = models::haptic::Action::Kind;
   const Eigen::Vector3d above = r.wall.point + 0.002 * r.wall.normal;
-  haptic::Script s;
+  models::haptic::Script s;
   s.start = r.wall.point + 0.01 * r.wall.normal;
-  haptic::Action a;
+  models::haptic::Action a;
   a.speed = r.speed;
   a.kind = K::move_to, a.to = above, s.actions.push_back(a);
   a = {}, a.speed = r.speed, a.kind = K::press, a.direction = -r.wall.normal, a.depth = 0.002 + r.press_depth;
@@ -38,7 +38,7 @@ WallRun run_wall(const WallRig& r) {
   if (!(r.delay_s >= 0) || !std::isfinite(r.delay_s)) throw std::invalid_argument("wall rig: delay must be finite and >= 0");
   SimulatedOmni omni(r.spec, r.hand, press_script(r));
   const double dt = 1 / r.spec.servo_hz;
-  haptic::PassivityController pc(dt, r.max_damping, r.reservoir);
+  models::haptic::PassivityController pc(dt, r.max_damping, r.reservoir);
   const int delay_ticks = int(std::lround(r.delay_s / dt));
   std::deque<Eigen::Vector3d> line(delay_ticks, Eigen::Vector3d::Zero());
   Eigen::Vector3d applied = Eigen::Vector3d::Zero();
@@ -49,7 +49,7 @@ WallRun run_wall(const WallRig& r) {
     const bool holding = omni.user().action() == kHold;
     const Frame f = omni.begin_frame();
     double depth;
-    line.push_back(haptic::wall_force(r.wall, f.position, f.velocity, &depth));
+    line.push_back(models::haptic::wall_force(r.wall, f.position, f.velocity, &depth));
     const Eigen::Vector3d env = line.front();
     line.pop_front();
     const Eigen::Vector3d cmd = r.passivity ? pc.filter(env, f.velocity, applied) : env;
@@ -73,4 +73,4 @@ WallRun run_wall(const WallRig& r) {
   return out;
 }
 
-}  // namespace hcosim::device
+}  // namespace hcosim::adapters::device

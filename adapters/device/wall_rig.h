@@ -6,15 +6,15 @@
 
 #include <cstdint>
 
-#include "haptic/omni.h"
-#include "haptic/wall.h"
+#include "models/haptic/omni.h"
+#include "models/haptic/wall.h"
 
-namespace hcosim::device {
+namespace hcosim::adapters::device {
 
 struct WallRig {
-  haptic::OmniSpec spec;
-  haptic::Hand hand;
-  haptic::Wall wall;           // through the origin, normal +z, by default
+  models::haptic::OmniSpec spec;
+  models::haptic::Hand hand;
+  models::haptic::Wall wall;           // through the origin, normal +z, by default
   double delay_s = 0;          // force latency, rounded to whole servo ticks
   bool passivity = true;       // passivity observer and controller on
   double max_damping = 20;     // N s/m, the controller's cap
@@ -41,4 +41,4 @@ WallRun run_wall(const WallRig& rig);
 // The tip depth at which the hand's pull balances the wall's push.
 double balance_depth(const WallRig& rig);
 
-}  // namespace hcosim::device
+}  // namespace hcosim::adapters::device

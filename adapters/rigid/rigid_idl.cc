@@ -1,30 +1,30 @@
-#include "rigid/rigid_idl.h"
+#include "adapters/rigid/rigid_idl.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include <Eigen/Geometry>
 
-#include "device/haptic_idl.h"
+#include "adapters/device/haptic_idl.h"
 
-namespace hcosim::rigid {
+namespace hcosim::adapters::rigid {
 
-RigidBodyState body_state(const std::string& name, const StepStamp& stamp, const Body& b, const char* backend) {
+RigidBodyState body_state(const std::string& name, const StepStamp& stamp, const models::rigid::Body& b, const char* backend) {
   RigidBodyState s;
   s.body(name);
   s.stamp(stamp);
-  s.shape(rigid::name(b.shape));
+  s.shape(models::rigid::name(b.shape));
   s.backend(backend);
-  s.pose().position(device::to_idl(b.x));
+  s.pose().position(adapters::device::to_idl(b.x));
   s.pose().orientation().w(b.q.w()), s.pose().orientation().x(b.q.x());
   s.pose().orientation().y(b.q.y()), s.pose().orientation().z(b.q.z());
-  s.linear_velocity(device::to_idl(b.v));
-  s.angular_velocity(device::to_idl(b.w));
+  s.linear_velocity(adapters::device::to_idl(b.v));
+  s.angular_velocity(adapters::device::to_idl(b.w));
   s.sleeping(b.sleeping);
   return s;
 }
 
-RigidDivergence divergence(const std::string& name, const StepStamp& stamp, const Body& a, const Body& m) {
+RigidDivergence divergence(const std::string& name, const StepStamp& stamp, const models::rigid::Body& a, const models::rigid::Body& m) {
   RigidDivergence d;
   d.body(name);
   d.stamp(stamp);
@@ -36,4 +36,4 @@ RigidDivergence divergence(const std::string& name, const StepStamp& stamp, cons
   return d;
 }
 
-}  // namespace hcosim::rigid
+}  // namespace hcosim::adapters::rigid

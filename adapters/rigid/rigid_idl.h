@@ -4,16 +4,16 @@
 
 #include <string>
 
-#include "hcosim/idl/rigid.h"
-#include "rigid/body.h"
+#include "idl/rigid.h"
+#include "models/rigid/body.h"
 
-namespace hcosim::rigid {
+namespace hcosim::adapters::rigid {
 
 // Body b of the deployment's object `name`, as computed by `backend`
 // ("analytic" or "mujoco").
-RigidBodyState body_state(const std::string& name, const StepStamp& stamp, const Body& b, const char* backend);
+RigidBodyState body_state(const std::string& name, const StepStamp& stamp, const models::rigid::Body& b, const char* backend);
 
 // How far MuJoCo's body m has drifted from the analytic body a.
-RigidDivergence divergence(const std::string& name, const StepStamp& stamp, const Body& a, const Body& m);
+RigidDivergence divergence(const std::string& name, const StepStamp& stamp, const models::rigid::Body& a, const models::rigid::Body& m);
 
-}  // namespace hcosim::rigid
+}  // namespace hcosim::adapters::rigid

@@ -1,4 +1,4 @@
-#include "vision/calibration.h"
+#include "adapters/vision/calibration.h"
 
 #include <cmath>
 #include <fstream>
@@ -7,9 +7,9 @@
 
 #include <opencv2/core/persistence.hpp>
 
-#include "config.h"
+#include "adapters/config.h"
 
-namespace hcosim::vision {
+namespace hcosim::adapters::vision {
 namespace {
 
 // The numbers of an rows x cols matrix node: an !!opencv-matrix or a plain
@@ -39,7 +39,7 @@ std::vector<double> matrix(const std::string& file, const YAML::Node& root, cons
 
 }  // namespace
 
-Intrinsics read_intrinsics(const std::string& path) {
+models::vision::Intrinsics read_intrinsics(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw ConfigError(path + ": cannot be read");
   // OpenCV writes the directive "%YAML:1.0", which YAML 1.2 parsers refuse;
@@ -63,7 +63,7 @@ Intrinsics read_intrinsics(const std::string& path) {
     if (name != "plumb_bob" && name != "radtan")
       throw config_error(path, model, "distortion_model '" + name + "': hcosim models plumb_bob (k1 k2 p1 p2 k3) only");
   }
-  Intrinsics k;
+  models::vision::Intrinsics k;
   // The size is checked with the rest by check() below.
   const auto size = [&](const char* key) {
     const YAML::Node n = root[key];
@@ -87,24 +87,24 @@ Intrinsics read_intrinsics(const std::string& path) {
   if ((k.width == 0) != (k.height == 0)) throw ConfigError(path + ": give both image_width and image_height, or neither");
   try {
     // Without a size, the rest is checked at any valid size.
-    Intrinsics sized = k;
+    models::vision::Intrinsics sized = k;
     if (!k.width) sized.width = sized.height = 16;
-    check(sized);
+    models::vision::check(sized);
   } catch (const std::invalid_argument& e) {
     throw ConfigError(path + ": " + e.what());
   }
   return k;
 }
 
-void write_intrinsics(const std::string& path, const Intrinsics& k) {
+void write_intrinsics(const std::string& path, const models::vision::Intrinsics& k) {
   cv::FileStorage fs(path, cv::FileStorage::WRITE);
   if (!fs.isOpened()) throw std::runtime_error(path + ": cannot be written");
   fs << "image_width" << k.width << "image_height" << k.height;
-  fs << "camera_matrix" << cv::Mat(camera_matrix(k));
-  fs << "distortion_coefficients" << distortion(k);
+  fs << "camera_matrix" << cv::Mat(models::vision::camera_matrix(k));
+  fs << "distortion_coefficients" << models::vision::distortion(k);
 }
 
-Intrinsics with_frame_size(Intrinsics k, int width, int height, const std::string& path) {
+models::vision::Intrinsics with_frame_size(models::vision::Intrinsics k, int width, int height, const std::string& path) {
   if (k.width == 0 || k.height == 0) {
     k.width = width, k.height = height;
     check(k);
@@ -117,4 +117,4 @@ Intrinsics with_frame_size(Intrinsics k, int width, int height, const std::strin
   return k;
 }
 
-}  // namespace hcosim::vision
+}  // namespace hcosim::adapters::vision

@@ -1,12 +1,12 @@
-#include "vision/media.h"
+#include "adapters/vision/media.h"
 
 #include <dlfcn.h>
 
 #include <stdexcept>
 
-#include "vision/media_module.h"
+#include "adapters/vision/media_module.h"
 
-namespace hcosim::vision {
+namespace hcosim::adapters::vision {
 
 // Its path is fixed at build time (HCOSIM_MEDIA_MODULE, in the build's bin/).
 const MediaApi& media_module() {
@@ -34,4 +34,4 @@ VideoOut::~VideoOut() { media_module().close_video_out(video_); }
 
 void VideoOut::write(const cv::Mat& frame) { media_module().write_video_out(video_, frame); }
 
-}  // namespace hcosim::vision
+}  // namespace hcosim::adapters::vision

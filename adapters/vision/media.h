@@ -6,7 +6,7 @@
 
 #include <opencv2/core.hpp>
 
-namespace hcosim::vision {
+namespace hcosim::adapters::vision {
 
 // Writes an 8-bit grey or BGR image, its format from the extension.
 // Throws std::runtime_error naming the path when it cannot.
@@ -28,4 +28,4 @@ class VideoOut {
   void* video_;
 };
 
-}  // namespace hcosim::vision
+}  // namespace hcosim::adapters::vision

@@ -1,5 +1,5 @@
 // The media module (media_module.h): OpenCV's image files, video files and
-// V4L2 cameras, built as build/bin/hcosim_media.so.
+// V4L2 cameras, built as build/bin/hcosim_adapters_vision_media.so.
 #include <unistd.h>
 
 #include <algorithm>
@@ -13,9 +13,9 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 
-#include "vision/media_module.h"
+#include "adapters/vision/media_module.h"
 
-namespace hcosim::vision {
+namespace hcosim::adapters::vision {
 namespace {
 
 namespace fs = std::filesystem;
@@ -170,10 +170,10 @@ void write_video_out(void* video, const cv::Mat& frame) { static_cast<cv::VideoW
 
 void close_video_out(void* video) { delete static_cast<cv::VideoWriter*>(video); }
 
-}  // namespace hcosim::vision
+}  // namespace hcosim::adapters::vision
 
-extern "C" const hcosim::vision::MediaApi* hcosim_media_api() {
-  using namespace hcosim::vision;
+extern "C" const hcosim::adapters::vision::MediaApi* hcosim_media_api() {
+  using namespace hcosim::adapters::vision;
   static const MediaApi api{kMediaApiVersion, capture_folder,  capture_video,   capture_v4l2,
                             write_image,      open_video_out, write_video_out, close_video_out};
   return &api;

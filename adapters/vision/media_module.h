@@ -1,5 +1,5 @@
 // The interface between the media module (media_module.cc, built as
-// build/bin/hcosim_media.so) and its one loader, media_module(): OpenCV's
+// build/bin/hcosim_adapters_vision_media.so) and its one loader, media_module(): OpenCV's
 // image files, video files and V4L2 cameras, whose libraries bring some
 // 230 shared libraries (FFmpeg, GStreamer, GDAL, ...) whose loading was
 // half of a tracker's start when idle, more beside the scene
@@ -12,9 +12,9 @@
 
 #include <opencv2/core.hpp>
 
-#include "vision/source.h"
+#include "adapters/vision/source.h"
 
-namespace hcosim::vision {
+namespace hcosim::adapters::vision {
 
 // Bumped when MediaApi changes, so that a module of another build is refused.
 constexpr int kMediaApiVersion = 1;
@@ -37,4 +37,4 @@ struct MediaApi {
 // cannot be loaded or is from another build.
 const MediaApi& media_module();
 
-}  // namespace hcosim::vision
+}  // namespace hcosim::adapters::vision

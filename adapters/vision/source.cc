@@ -1,12 +1,12 @@
-#include "vision/source.h"
+#include "adapters/vision/source.h"
 
 #include <chrono>
 #include <filesystem>
 #include <stdexcept>
 
-#include "vision/media_module.h"
+#include "adapters/vision/media_module.h"
 
-namespace hcosim::vision {
+namespace hcosim::adapters::vision {
 namespace {
 
 std::int64_t now_ns() {
@@ -28,11 +28,11 @@ std::unique_ptr<Source> open_v4l2(const std::string& device, int width, int heig
   return std::unique_ptr<Source>(media_module().v4l2(device, width, height, fps));
 }
 
-SyntheticSource::SyntheticSource(const SyntheticCamera& camera, const Conditions& conditions, double rate_hz,
-                                 std::uint64_t frames, const Orbit& path)
+SyntheticSource::SyntheticSource(const models::vision::SyntheticCamera& camera, const models::vision::Conditions& conditions, double rate_hz,
+                                 std::uint64_t frames, const models::vision::Orbit& path)
     : camera_(camera), conditions_(conditions), rate_hz_(rate_hz), frames_(frames), path_(path) {
   if (!(rate_hz > 0 && rate_hz <= 1e4)) throw std::invalid_argument("synthetic camera: rate must be in (0, 1e4] Hz");
-  check(path);
+  models::vision::check(path);
 }
 
 bool SyntheticSource::next(Frame& f) {
@@ -46,7 +46,7 @@ bool SyntheticSource::next(Frame& f) {
 }
 
 std::string SyntheticSource::describe() const {
-  const Intrinsics& k = camera_.intrinsics();
+  const models::vision::Intrinsics& k = camera_.intrinsics();
   return "synthetic camera: " + std::to_string(k.width) + "x" + std::to_string(k.height) + " at " +
          cv::format("%.3g", rate_hz_) + " Hz, " + camera_.marker().family + " id " +
          std::to_string(camera_.marker().id) + (frames_ ? ", " + std::to_string(frames_) + " frames" : "");
@@ -54,6 +54,6 @@ std::string SyntheticSource::describe() const {
 
 bool SyntheticSource::rewind() { return next_ = 0, true; }
 
-Eigen::Isometry3d SyntheticSource::truth(std::uint64_t index) const { return orbit(double(index) / rate_hz_, path_); }
+Eigen::Isometry3d SyntheticSource::truth(std::uint64_t index) const { return models::vision::orbit(double(index) / rate_hz_, path_); }
 
-}  // namespace hcosim::vision
+}  // namespace hcosim::adapters::vision

@@ -11,9 +11,9 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
-#include "vision/synthetic.h"
+#include "models/vision/synthetic.h"
 
-namespace hcosim::vision {
+namespace hcosim::adapters::vision {
 
 struct Frame {
   cv::Mat image;                // CV_8UC1 grey or CV_8UC3 BGR; empty when `problem` says why
@@ -56,22 +56,22 @@ std::unique_ptr<Source> open_v4l2(const std::string& device, int width, int heig
 class SyntheticSource : public Source {
  public:
   // Throws std::invalid_argument for a rate <= 0 or a bad path.
-  SyntheticSource(const SyntheticCamera& camera, const Conditions& conditions, double rate_hz,
-                  std::uint64_t frames = 0, const Orbit& path = {});
+  SyntheticSource(const models::vision::SyntheticCamera& camera, const models::vision::Conditions& conditions, double rate_hz,
+                  std::uint64_t frames = 0, const models::vision::Orbit& path = {});
   bool next(Frame& f) override;
   std::string describe() const override;
   bool rewind() override;
 
   // The true pose of the tag in the camera in frame i.
   Eigen::Isometry3d truth(std::uint64_t index) const;
-  const SyntheticCamera& camera() const { return camera_; }
+  const models::vision::SyntheticCamera& camera() const { return camera_; }
 
  private:
-  SyntheticCamera camera_;
-  Conditions conditions_;
+  models::vision::SyntheticCamera camera_;
+  models::vision::Conditions conditions_;
   double rate_hz_;
   std::uint64_t frames_, next_ = 0;
-  Orbit path_;
+  models::vision::Orbit path_;
 };
 
-}  // namespace hcosim::vision
+}  // namespace hcosim::adapters::vision

@@ -1,12 +1,12 @@
-#include "vision/vision_idl.h"
+#include "adapters/vision/vision_idl.h"
 
 #include <stdexcept>
 
 #include <opencv2/imgproc.hpp>
 
-#include "validate.h"
+#include "adapters/validate.h"
 
-namespace hcosim::vision {
+namespace hcosim::adapters::vision {
 
 Transform to_idl(const Eigen::Isometry3d& pose) {
   Transform t;
@@ -29,7 +29,7 @@ Eigen::Isometry3d from_idl(const Transform& t) {
 }
 
 MarkerPose marker_pose(const std::string& camera, const std::string& family, const StepStamp& stamp,
-                       std::uint64_t frame, double tag_size, const Observation& o, double latency_ms) {
+                       std::uint64_t frame, double tag_size, const models::vision::Observation& o, double latency_ms) {
   MarkerPose m;
   m.camera(camera);
   m.tag_id(o.detection.id);
@@ -45,7 +45,7 @@ MarkerPose marker_pose(const std::string& camera, const std::string& family, con
 }
 
 CameraFrame camera_frame(const std::string& camera, const StepStamp& stamp, std::uint64_t frame,
-                         const cv::Mat& image, const Intrinsics& k) {
+                         const cv::Mat& image, const models::vision::Intrinsics& k) {
   if (image.type() != CV_8UC1 && image.type() != CV_8UC3)
     throw std::invalid_argument("camera_frame: images must be 8-bit grey or BGR");
   CameraFrame f;
@@ -76,13 +76,13 @@ cv::Mat bgr_image(const CameraFrame& f) {
   return bgr;
 }
 
-Intrinsics intrinsics(const CameraFrame& f) {
-  Intrinsics k;
+models::vision::Intrinsics intrinsics(const CameraFrame& f) {
+  models::vision::Intrinsics k;
   k.width = int(f.width()), k.height = int(f.height());
   k.fx = f.fx(), k.fy = f.fy(), k.cx = f.cx(), k.cy = f.cy();
   for (int i = 0; i < 5; ++i) k.distortion[std::size_t(i)] = f.distortion()[std::size_t(i)];
-  check(k);
+  models::vision::check(k);
   return k;
 }
 
-}  // namespace hcosim::vision
+}  // namespace hcosim::adapters::vision

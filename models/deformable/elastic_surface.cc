@@ -1,9 +1,9 @@
-#include "deformable/elastic_surface.h"
+#include "models/deformable/elastic_surface.h"
 
 #include <cmath>
 #include <stdexcept>
 
-namespace hcosim::deformable {
+namespace hcosim::models::deformable {
 
 namespace {
 
@@ -21,11 +21,11 @@ ElasticSurface::ElasticSurface(const SurfaceSpec& spec) : spec_(spec) {
   need(spec.centre.allFinite(), "centre must be finite");
   need(spec.prestretch >= 0 && spec.prestretch < 0.5, "prestretch must be in [0, 0.5)");
   const int n = spec.resolution;
-  massspring::Lattice l;
+  models::massspring::Lattice l;
   if (spec.shape == Shape::sheet) {
-    l = massspring::make_sheet(n, n, spec.size / (n - 1), spec.material);
+    l = models::massspring::make_sheet(n, n, spec.size / (n - 1), spec.material);
     l.rest.colwise() += spec.centre - Eigen::Vector3d(0.5 * spec.size, 0.5 * spec.size, 0);
-    for (massspring::Spring& sp : l.springs) sp.rest *= 1 - spec.prestretch;
+    for (models::massspring::Spring& sp : l.springs) sp.rest *= 1 - spec.prestretch;
     for (int j = 0; j + 1 < n; ++j)
       for (int i = 0; i + 1 < n; ++i) {
         const int a = i + n * j;
@@ -34,7 +34,7 @@ ElasticSurface::ElasticSurface(const SurfaceSpec& spec) : spec_(spec) {
       }
   } else {
     const int segments = 4 * n;
-    l = massspring::make_semisphere(n, segments, spec.size, spec.material);
+    l = models::massspring::make_semisphere(n, segments, spec.size, spec.material);
     l.rest.colwise() += spec.centre;
     const int pole = n * segments;
     auto id = [segments](int r, int s) { return r * segments + s % segments; };
@@ -48,8 +48,8 @@ ElasticSurface::ElasticSurface(const SurfaceSpec& spec) : spec_(spec) {
         }
       }
   }
-  sim_ = std::make_unique<massspring::Simulator>(std::move(l), spec.options);
-  state_ = massspring::rest_state(sim_->lattice());
+  sim_ = std::make_unique<models::massspring::Simulator>(std::move(l), spec.options);
+  state_ = models::massspring::rest_state(sim_->lattice());
 }
 
 Eigen::Vector3d ElasticSurface::rest_normal(int v) const {
@@ -79,7 +79,7 @@ Touch ElasticSurface::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
   need(std::isfinite(dt) && std::abs(dt - spec_.options.dt) <= 1e-9 * spec_.options.dt,
        "touch dt must equal the behavior step options.dt");
   need(hip.allFinite(), "the haptic point must be finite");
-  const massspring::Lattice& l = sim_->lattice();
+  const models::massspring::Lattice& l = sim_->lattice();
   if (contact_ < 0 && inside(hip)) {
     // The free vertex nearest the HIP's rest-surface projection.
     double best = 1e300;
@@ -110,4 +110,4 @@ Touch ElasticSurface::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
   return t;
 }
 
-}  // namespace hcosim::deformable
+}  // namespace hcosim::models::deformable

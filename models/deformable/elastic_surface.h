@@ -9,10 +9,10 @@
 #include <memory>
 #include <string>
 
-#include "deformable/object.h"
-#include "massspring/simulator.h"
+#include "models/deformable/object.h"
+#include "models/massspring/simulator.h"
 
-namespace hcosim::deformable {
+namespace hcosim::models::deformable {
 
 enum class Shape { sheet, semisphere };
 const char* name(Shape shape);
@@ -22,14 +22,14 @@ struct SurfaceSpec {
   int resolution = 21;   // sheet: masses per edge; semi-sphere: latitude rings (4 x as many segments)
   double size = 0.1;     // m: sheet edge, or semi-sphere radius
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // m, world: sheet centre, or semi-sphere base centre
-  massspring::Material material{1e-3, 20, 0.02, 0.01};
+  models::massspring::Material material{1e-3, 20, 0.02, 0.01};
   // Sheet: its springs' rest lengths are (1 - prestretch) times their
   // length in the frame, so it is taut. A slack membrane has no linear
   // stiffness out of its plane: pressed, it creeps back over seconds.
   double prestretch = 0.05;
-  massspring::Options options = [] {
-    massspring::Options o;
-    o.integrator = massspring::Integrator::symplectic_euler;
+  models::massspring::Options options = [] {
+    models::massspring::Options o;
+    o.integrator = models::massspring::Integrator::symplectic_euler;
     return o;
   }();  // options.dt is the servo period
 };
@@ -55,8 +55,8 @@ class ElasticSurface final : public Object {
   Eigen::Matrix3Xd surface_from(const Eigen::Matrix3Xd& cage) const override { return cage; }
   const std::vector<Eigen::Vector3i>& triangles() const override { return triangles_; }
 
-  const massspring::Simulator& behavior() const { return *sim_; }
-  const massspring::State& state() const { return state_; }
+  const models::massspring::Simulator& behavior() const { return *sim_; }
+  const models::massspring::State& state() const { return state_; }
   int contact() const { return contact_; }
 
  private:
@@ -64,10 +64,10 @@ class ElasticSurface final : public Object {
   Eigen::Vector3d rest_normal(int vertex) const;
 
   SurfaceSpec spec_;
-  std::unique_ptr<massspring::Simulator> sim_;
-  massspring::State state_;
+  std::unique_ptr<models::massspring::Simulator> sim_;
+  models::massspring::State state_;
   std::vector<Eigen::Vector3i> triangles_;
   int contact_ = -1;
 };
 
-}  // namespace hcosim::deformable
+}  // namespace hcosim::models::deformable

@@ -1,12 +1,12 @@
-#include "deformable/hybrid.h"
+#include "models/deformable/hybrid.h"
 
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
-#include "deformable/surface.h"
+#include "models/deformable/surface.h"
 
-namespace hcosim::deformable {
+namespace hcosim::models::deformable {
 
 namespace {
 
@@ -62,11 +62,11 @@ ChainLattice hybrid_chains(const HybridSpec& s) {
   return l;
 }
 
-massspring::Lattice hybrid_masses(const HybridSpec& s) {
+models::massspring::Lattice hybrid_masses(const HybridSpec& s) {
   check(s);
   const int n = s.elements;
-  massspring::Lattice l = massspring::make_box(n, n, n, s.size / (n - 1), s.material);
-  for (massspring::Spring& sp : l.springs)
+  models::massspring::Lattice l = models::massspring::make_box(n, n, n, s.size / (n - 1), s.material);
+  for (models::massspring::Spring& sp : l.springs)
     if (stiff_side(s, l.rest.col(sp.i)) && stiff_side(s, l.rest.col(sp.j))) sp.k *= s.stiff_ratio;
   for (int i = 0; i < l.size(); ++i) l.anchored[i] = i < n * n;
   l.rest.colwise() += corner(s);
@@ -74,11 +74,11 @@ massspring::Lattice hybrid_masses(const HybridSpec& s) {
 }
 
 Eigen::Vector3d behavior_static_force(const HybridSpec& spec, int mass, const Eigen::Vector3d& displacement) {
-  massspring::Options o;
-  o.integrator = massspring::Integrator::implicit_euler;
+  models::massspring::Options o;
+  o.integrator = models::massspring::Integrator::implicit_euler;
   o.dt = 0.01;  // s: 40 steps of several times the slowest period, each damping it
-  massspring::Simulator sim(hybrid_masses(spec), o);
-  massspring::State s = massspring::rest_state(sim.lattice());
+  models::massspring::Simulator sim(hybrid_masses(spec), o);
+  models::massspring::State s = models::massspring::rest_state(sim.lattice());
   need(mass >= 0 && mass < sim.lattice().size(), "no mass " + std::to_string(mass));
   need(displacement.allFinite(), "the displacement must be finite");
   s.x.col(mass) += displacement;
@@ -101,12 +101,12 @@ Weights mvc_map(const HybridSpec& spec, const Eigen::Matrix3Xd& cage, const std:
 
 Hybrid::Hybrid(const HybridSpec& spec, const MapSource& map)
     : spec_(spec), chains_(hybrid_chains(spec), spec.relax_rate, spec.limit_stiffness) {
-  masses_ = std::make_unique<massspring::Simulator>(hybrid_masses(spec), spec.behavior);
-  state_ = massspring::rest_state(masses_->lattice());
+  masses_ = std::make_unique<models::massspring::Simulator>(hybrid_masses(spec), spec.behavior);
+  state_ = models::massspring::rest_state(masses_->lattice());
   lo_ = corner(spec), hi_ = lo_ + Eigen::Vector3d::Constant(spec.size);
   visual_ = rounded_box(spec.visual_subdivisions, lo_, hi_, spec.visual_exponent);
   const int n = spec.elements;
-  const massspring::Lattice& lat = masses_->lattice();
+  const models::massspring::Lattice& lat = masses_->lattice();
   if (spec.map == VisualMap::trilinear) {
     for (int i = 0; i < lat.size(); ++i) cage_.push_back(i);
     weights_ = trilinear_weights(n, n, n, spec.size / (n - 1), lo_, visual_.vertices);
@@ -167,7 +167,7 @@ void Hybrid::couple() {
 void Hybrid::integrate() { simulated_ = masses_->step(state_, {}).simulated; }
 
 Eigen::Matrix3Xd Hybrid::cage() const {
-  const massspring::Lattice& lat = masses_->lattice();
+  const models::massspring::Lattice& lat = masses_->lattice();
   Eigen::Matrix3Xd u(3, cage_.size());
   for (std::size_t v = 0; v < cage_.size(); ++v) u.col(v) = state_.x.col(cage_[v]) - lat.rest.col(cage_[v]);
   return u;
@@ -177,4 +177,4 @@ Eigen::Matrix3Xd Hybrid::surface_from(const Eigen::Matrix3Xd& u) const {
   return apply_moved(columns_, visual_.vertices, u, spec_.visual_tolerance);
 }
 
-}  // namespace hcosim::deformable
+}  // namespace hcosim::models::deformable

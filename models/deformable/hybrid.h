@@ -10,13 +10,13 @@
 #include <memory>
 #include <vector>
 
-#include "deformable/mvc.h"
-#include "deformable/object.h"
-#include "deformable/schain.h"
-#include "massspring/mesh_lattice.h"
-#include "massspring/simulator.h"
+#include "models/deformable/mvc.h"
+#include "models/deformable/object.h"
+#include "models/deformable/schain.h"
+#include "models/massspring/mesh_lattice.h"
+#include "models/massspring/simulator.h"
 
-namespace hcosim::deformable {
+namespace hcosim::models::deformable {
 
 // How the visual mesh follows the behavior lattice: mean value coordinates
 // on the lattice's boundary (dense, or truncated to `keep` of each row's
@@ -34,10 +34,10 @@ struct HybridSpec {
   ChainMaterial chain{35, 0.3, 0.3, 0.6};
   double relax_rate = 50;                                    // 1/s, S-Chain relaxation
   double limit_stiffness = 1000;                             // N/m, past full compression
-  massspring::Material material{1e-3, 50, 0.02, 0.01};       // behavior model, per mass and spring
-  massspring::Options behavior = [] {
-    massspring::Options o;
-    o.integrator = massspring::Integrator::symplectic_euler;
+  models::massspring::Material material{1e-3, 50, 0.02, 0.01};       // behavior model, per mass and spring
+  models::massspring::Options behavior = [] {
+    models::massspring::Options o;
+    o.integrator = models::massspring::Integrator::symplectic_euler;
     o.threshold = 1e-10;  // J: low enough that release returns to rest (hybrid_test)
     return o;
   }();
@@ -59,7 +59,7 @@ void check(const HybridSpec& spec);
 // The chain lattice and the behavior lattice of `spec`, element e of one
 // being mass e of the other.
 ChainLattice hybrid_chains(const HybridSpec& spec);
-massspring::Lattice hybrid_masses(const HybridSpec& spec);
+models::massspring::Lattice hybrid_masses(const HybridSpec& spec);
 
 // N: the force on a holder keeping behavior mass `mass` of `spec` at its
 // rest position plus `displacement` once the lattice has settled
@@ -103,9 +103,9 @@ class Hybrid final : public Object {
 
   const HybridSpec& spec() const { return spec_; }
   const SChain& haptic() const { return chains_; }
-  const massspring::Simulator& behavior() const { return *masses_; }
-  const massspring::State& state() const { return state_; }
-  const massspring::TriangleMesh& visual_rest() const { return visual_; }
+  const models::massspring::Simulator& behavior() const { return *masses_; }
+  const models::massspring::State& state() const { return state_; }
+  const models::massspring::TriangleMesh& visual_rest() const { return visual_; }
   const Weights& map() const { return weights_; }
   const std::vector<int>& cage_masses() const { return cage_; }  // masses the map reads, in its column order
   int simulated() const { return simulated_; }  // masses the last behavior step integrated
@@ -113,9 +113,9 @@ class Hybrid final : public Object {
  private:
   HybridSpec spec_;
   SChain chains_;
-  std::unique_ptr<massspring::Simulator> masses_;
-  massspring::State state_;
-  massspring::TriangleMesh visual_;
+  std::unique_ptr<models::massspring::Simulator> masses_;
+  models::massspring::State state_;
+  models::massspring::TriangleMesh visual_;
   std::vector<int> cage_;  // masses whose positions the map reads, in its column order
   Weights weights_;
   ColumnWeights columns_;  // weights_ by columns, for apply_moved
@@ -126,4 +126,4 @@ class Hybrid final : public Object {
   int simulated_ = 0;
 };
 
-}  // namespace hcosim::deformable
+}  // namespace hcosim::models::deformable

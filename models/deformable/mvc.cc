@@ -1,4 +1,4 @@
-#include "deformable/mvc.h"
+#include "models/deformable/mvc.h"
 
 #include <Eigen/Geometry>
 
@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace hcosim::deformable {
+namespace hcosim::models::deformable {
 
 namespace {
 
@@ -181,4 +181,4 @@ Eigen::Matrix3Xd apply_moved(const ColumnWeights& w, const Eigen::Matrix3Xd& res
   return out;
 }
 
-}  // namespace hcosim::deformable
+}  // namespace hcosim::models::deformable

@@ -10,7 +10,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
-namespace hcosim::deformable {
+namespace hcosim::models::deformable {
 
 using Weights = Eigen::SparseMatrix<double, Eigen::RowMajor>;  // points x cage vertices
 
@@ -49,4 +49,4 @@ using ColumnWeights = Eigen::SparseMatrix<float, Eigen::ColMajor>;
 Eigen::Matrix3Xd apply_moved(const ColumnWeights& w, const Eigen::Matrix3Xd& rest_points, const Eigen::Matrix3Xd& u,
                              double tolerance = 0);
 
-}  // namespace hcosim::deformable
+}  // namespace hcosim::models::deformable

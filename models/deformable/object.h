@@ -8,7 +8,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-namespace hcosim::deformable {
+namespace hcosim::models::deformable {
 
 // The answer to one haptic tick.
 struct Touch {
@@ -51,4 +51,4 @@ class Object {
   virtual const std::vector<Eigen::Vector3i>& triangles() const = 0;
 };
 
-}  // namespace hcosim::deformable
+}  // namespace hcosim::models::deformable

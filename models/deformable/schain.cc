@@ -1,11 +1,11 @@
-#include "deformable/schain.h"
+#include "models/deformable/schain.h"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
-namespace hcosim::deformable {
+namespace hcosim::models::deformable {
 
 namespace {
 
@@ -196,4 +196,4 @@ int SChain::nearest_surface(const Eigen::Vector3d& p) const {
   return lat_.index(at[0], at[1], at[2]);
 }
 
-}  // namespace hcosim::deformable
+}  // namespace hcosim::models::deformable

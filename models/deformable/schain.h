@@ -17,7 +17,7 @@
 
 #include <Eigen/Core>
 
-namespace hcosim::deformable {
+namespace hcosim::models::deformable {
 
 // Per element: its spring coefficient and the fractions of the spacing
 // its links allow. A link between two elements takes the tighter of their
@@ -99,4 +99,4 @@ class SChain {
   std::vector<std::pair<int, Eigen::Vector3d>> undo_;
 };
 
-}  // namespace hcosim::deformable
+}  // namespace hcosim::models::deformable

@@ -1,11 +1,11 @@
-#include "deformable/surface.h"
+#include "models/deformable/surface.h"
 
 #include <cmath>
 #include <stdexcept>
 
 #include <Eigen/Geometry>
 
-namespace hcosim::deformable {
+namespace hcosim::models::deformable {
 
 GridSurface grid_surface(int nx, int ny, int nz) {
   if (nx < 2 || ny < 2 || nz < 2) throw std::invalid_argument("grid_surface: needs at least 2 nodes per side");
@@ -38,7 +38,7 @@ GridSurface grid_surface(int nx, int ny, int nz) {
   return s;
 }
 
-massspring::TriangleMesh rounded_box(int subdivisions, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+models::massspring::TriangleMesh rounded_box(int subdivisions, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
                                      double exponent) {
   if (subdivisions < 1) throw std::invalid_argument("rounded_box: subdivisions must be >= 1");
   if (!(exponent >= 2) || !std::isfinite(exponent)) throw std::invalid_argument("rounded_box: exponent must be finite and >= 2");
@@ -46,7 +46,7 @@ massspring::TriangleMesh rounded_box(int subdivisions, const Eigen::Vector3d& lo
     throw std::invalid_argument("rounded_box: hi must exceed lo on every axis");
   const int k = subdivisions + 1;
   const GridSurface g = grid_surface(k, k, k);
-  massspring::TriangleMesh m;
+  models::massspring::TriangleMesh m;
   m.triangles = g.triangles;
   m.vertices.resize(3, g.nodes.size());
   const Eigen::Vector3d centre = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
@@ -76,4 +76,4 @@ Eigen::Matrix3Xd vertex_normals(const Eigen::Matrix3Xd& x, const std::vector<Eig
   return n;
 }
 
-}  // namespace hcosim::deformable
+}  // namespace hcosim::models::deformable

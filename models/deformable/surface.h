@@ -7,9 +7,9 @@
 
 #include <Eigen/Core>
 
-#include "massspring/mesh_lattice.h"
+#include "models/massspring/mesh_lattice.h"
 
-namespace hcosim::deformable {
+namespace hcosim::models::deformable {
 
 // The boundary of an nx x ny x nz grid (node i + nx (j + ny k)) as a closed
 // triangle mesh: its nodes and triangles indexing into `nodes`,
@@ -28,11 +28,11 @@ GridSurface grid_surface(int nx, int ny, int nz);
 // of `subdivisions` squares per edge projected onto it: 6 s^2 + 2 vertices,
 // 12 s^2 triangles. Its face centres touch the box. Throws
 // std::invalid_argument for subdivisions < 1, exponent < 2 or an empty box.
-massspring::TriangleMesh rounded_box(int subdivisions, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+models::massspring::TriangleMesh rounded_box(int subdivisions, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
                                      double exponent);
 
 // Unit area-weighted vertex normals of a triangle mesh at positions x; a
 // vertex whose triangles all collapsed gets +z rather than NaN.
 Eigen::Matrix3Xd vertex_normals(const Eigen::Matrix3Xd& x, const std::vector<Eigen::Vector3i>& triangles);
 
-}  // namespace hcosim::deformable
+}  // namespace hcosim::models::deformable

@@ -1,9 +1,9 @@
-#include "haptic/force_sum.h"
+#include "models/haptic/force_sum.h"
 
 #include <cmath>
 #include <stdexcept>
 
-namespace hcosim::haptic {
+namespace hcosim::models::haptic {
 
 ForceSum::ForceSum(double timeout_s) : timeout_(timeout_s) {
   if (!(timeout_s > 0) || !std::isfinite(timeout_s)) throw std::invalid_argument("force sum: timeout must be finite and > 0");
@@ -34,7 +34,7 @@ Eigen::Vector3d ForceSum::total(double t, const Eigen::Vector3d& x) {
 
 bool ForceSum::covers(const std::string& source, const Eigen::Vector3d& x) const {
   const auto it = latest_.find(source);
-  return it != latest_.end() && haptic::covers(it->second.model, x);
+  return it != latest_.end() && models::haptic::covers(it->second.model, x);
 }
 
 Eigen::Vector3d ForceSum::force_of(const std::string& source) const {
@@ -42,4 +42,4 @@ Eigen::Vector3d ForceSum::force_of(const std::string& source) const {
   return it == latest_.end() ? Eigen::Vector3d::Zero() : it->second.rendered;
 }
 
-}  // namespace hcosim::haptic
+}  // namespace hcosim::models::haptic

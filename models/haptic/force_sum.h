@@ -10,9 +10,9 @@
 
 #include <Eigen/Core>
 
-#include "haptic/local_model.h"
+#include "models/haptic/local_model.h"
 
-namespace hcosim::haptic {
+namespace hcosim::models::haptic {
 
 class ForceSum {
  public:
@@ -31,7 +31,7 @@ class ForceSum {
   std::size_t sources() const { return latest_.size(); }  // fresh at the last total()
   bool has(const std::string& source) const { return latest_.count(source) > 0; }
   // Whether `source`'s latest model is a free-space one that reaches x
-  // (haptic::covers; its age against kFreeHorizonS is the caller's to check).
+  // (models::haptic::covers; its age against kFreeHorizonS is the caller's to check).
   bool covers(const std::string& source, const Eigen::Vector3d& x) const;
   // `source`'s force in the last total() (zero if it had none).
   Eigen::Vector3d force_of(const std::string& source) const;
@@ -48,4 +48,4 @@ class ForceSum {
   std::uint64_t expired_ = 0;
 };
 
-}  // namespace hcosim::haptic
+}  // namespace hcosim::models::haptic

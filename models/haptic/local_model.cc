@@ -1,9 +1,9 @@
-#include "haptic/local_model.h"
+#include "models/haptic/local_model.h"
 
 #include <cmath>
 #include <stdexcept>
 
-namespace hcosim::haptic {
+namespace hcosim::models::haptic {
 
 Eigen::Vector3d evaluate(const LocalModel& m, const Eigen::Vector3d& x) {
   if (!x.allFinite()) throw std::invalid_argument("local model: the position must be finite");
@@ -32,4 +32,4 @@ LocalModel contact_model(const Eigen::Vector3d& force, const Eigen::Vector3d& po
   return m;
 }
 
-}  // namespace hcosim::haptic
+}  // namespace hcosim::models::haptic

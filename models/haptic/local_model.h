@@ -6,7 +6,7 @@
 
 #include <Eigen/Core>
 
-namespace hcosim::haptic {
+namespace hcosim::models::haptic {
 
 struct LocalModel {
   Eigen::Vector3d force = Eigen::Vector3d::Zero();     // N, on the stylus at `position`, world frame
@@ -40,4 +40,4 @@ Eigen::Vector3d evaluate(const LocalModel& m, const Eigen::Vector3d& x);
 LocalModel contact_model(const Eigen::Vector3d& force, const Eigen::Vector3d& position, const Eigen::Vector3d& normal,
                          double k, double radius);
 
-}  // namespace hcosim::haptic
+}  // namespace hcosim::models::haptic

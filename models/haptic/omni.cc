@@ -1,11 +1,11 @@
-#include "haptic/omni.h"
+#include "models/haptic/omni.h"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
-namespace hcosim::haptic {
+namespace hcosim::models::haptic {
 
 void check(const OmniSpec& s) {
   auto need = [](double v, const char* what) {
@@ -49,4 +49,4 @@ Eigen::Vector3d quantize(const OmniSpec& spec, const Eigen::Vector3d& x) {
   return (x / spec.resolution).array().round().matrix() * spec.resolution;
 }
 
-}  // namespace hcosim::haptic
+}  // namespace hcosim::models::haptic

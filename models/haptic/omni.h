@@ -4,7 +4,7 @@
 
 #include <Eigen/Core>
 
-namespace hcosim::haptic {
+namespace hcosim::models::haptic {
 
 // Published characteristics of the SensAble / 3D Systems PHANToM Omni
 // (Touch). The workspace is a box centred on `centre` (world frame).
@@ -50,4 +50,4 @@ void step_tip(const OmniSpec& spec, const Hand& hand, const Eigen::Vector3d& tar
 // `x` rounded to the encoder's resolution, as the device reports it.
 Eigen::Vector3d quantize(const OmniSpec& spec, const Eigen::Vector3d& x);
 
-}  // namespace hcosim::haptic
+}  // namespace hcosim::models::haptic

@@ -1,10 +1,10 @@
-#include "haptic/passivity.h"
+#include "models/haptic/passivity.h"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-namespace hcosim::haptic {
+namespace hcosim::models::haptic {
 
 PassivityController::PassivityController(double dt, double max_damping, double reservoir)
     : dt_(dt), max_damping_(max_damping), reservoir_(reservoir) {
@@ -30,4 +30,4 @@ Eigen::Vector3d PassivityController::filter(const Eigen::Vector3d& force, const 
   return force - damping_ * v;
 }
 
-}  // namespace hcosim::haptic
+}  // namespace hcosim::models::haptic

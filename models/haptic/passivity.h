@@ -8,7 +8,7 @@
 
 #include <Eigen/Core>
 
-namespace hcosim::haptic {
+namespace hcosim::models::haptic {
 
 class PassivityController {
  public:
@@ -32,4 +32,4 @@ class PassivityController {
   Eigen::Vector3d last_v_ = Eigen::Vector3d::Zero();
 };
 
-}  // namespace hcosim::haptic
+}  // namespace hcosim::models::haptic

@@ -1,10 +1,10 @@
-#include "haptic/virtual_user.h"
+#include "models/haptic/virtual_user.h"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-namespace hcosim::haptic {
+namespace hcosim::models::haptic {
 
 const char* name(Action::Kind k) {
   switch (k) {
@@ -97,4 +97,4 @@ Eigen::Vector3d VirtualUser::next(const Eigen::Vector3d& rendered) {
   return out;
 }
 
-}  // namespace hcosim::haptic
+}  // namespace hcosim::models::haptic

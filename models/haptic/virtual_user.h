@@ -10,7 +10,7 @@
 
 #include <Eigen/Core>
 
-namespace hcosim::haptic {
+namespace hcosim::models::haptic {
 
 struct Action {
   enum class Kind { move_to, press, hold, stroke, tap, release };
@@ -70,4 +70,4 @@ class VirtualUser {
   Eigen::Vector3d press_origin_;       // target when the last press or tap began
 };
 
-}  // namespace hcosim::haptic
+}  // namespace hcosim::models::haptic

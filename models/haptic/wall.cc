@@ -1,8 +1,8 @@
-#include "haptic/wall.h"
+#include "models/haptic/wall.h"
 
 #include <algorithm>
 
-namespace hcosim::haptic {
+namespace hcosim::models::haptic {
 
 Eigen::Vector3d wall_force(const Wall& w, const Eigen::Vector3d& x, const Eigen::Vector3d& v, double* depth) {
   const double d = (w.point - x).dot(w.normal);
@@ -11,4 +11,4 @@ Eigen::Vector3d wall_force(const Wall& w, const Eigen::Vector3d& x, const Eigen:
   return std::max(0.0, w.stiffness * d - w.damping * v.dot(w.normal)) * w.normal;
 }
 
-}  // namespace hcosim::haptic
+}  // namespace hcosim::models::haptic

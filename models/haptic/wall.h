@@ -4,7 +4,7 @@
 
 #include <Eigen/Core>
 
-namespace hcosim::haptic {
+namespace hcosim::models::haptic {
 
 // The half-space behind a plane through `point` with outward unit `normal`.
 struct Wall {
@@ -19,4 +19,4 @@ struct Wall {
 // (clamped at 0). The damping term never pulls the stylus into the wall.
 Eigen::Vector3d wall_force(const Wall& wall, const Eigen::Vector3d& x, const Eigen::Vector3d& v, double* depth);
 
-}  // namespace hcosim::haptic
+}  // namespace hcosim::models::haptic

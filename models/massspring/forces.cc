@@ -1,9 +1,9 @@
-#include "massspring/forces.h"
+#include "models/massspring/forces.h"
 
 #include <algorithm>
 #include <cmath>
 
-namespace hcosim::massspring {
+namespace hcosim::models::massspring {
 namespace {
 
 constexpr double kTiny = 1e-12;  // m: below this a spring has no direction
@@ -109,4 +109,4 @@ void add_stiffness_times(const Lattice& l, const std::vector<int>& springs, cons
   }
 }
 
-}  // namespace hcosim::massspring
+}  // namespace hcosim::models::massspring

@@ -7,9 +7,9 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
-#include "massspring/lattice.h"
+#include "models/massspring/lattice.h"
 
-namespace hcosim::massspring {
+namespace hcosim::models::massspring {
 
 // External point force on one mass, e.g. the haptic stylus at the contacted
 // vertex (000 §2.2); it reaches the rest of the object through the springs.
@@ -83,4 +83,4 @@ Eigen::SparseMatrix<double> implicit_matrix(const Lattice& lattice, const std::v
 void add_stiffness_times(const Lattice& lattice, const std::vector<int>& springs, const Eigen::Matrix3Xd& x,
                          const Eigen::Matrix3Xd& v, double scale, Eigen::Matrix3Xd& out);
 
-}  // namespace hcosim::massspring
+}  // namespace hcosim::models::massspring

@@ -1,10 +1,10 @@
-#include "massspring/integrator.h"
+#include "models/massspring/integrator.h"
 
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
-namespace hcosim::massspring {
+namespace hcosim::models::massspring {
 
 const char* name(Integrator i) {
   switch (i) {
@@ -77,4 +77,4 @@ double stable_step(Integrator i, const Spectrum& sp) {
   return kStableMargin * (i == Integrator::rk4 ? 5.2 : 4.0) / rate;
 }
 
-}  // namespace hcosim::massspring
+}  // namespace hcosim::models::massspring

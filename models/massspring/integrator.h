@@ -23,9 +23,9 @@
 
 #include <string>
 
-#include "massspring/lattice.h"
+#include "models/massspring/lattice.h"
 
-namespace hcosim::massspring {
+namespace hcosim::models::massspring {
 
 enum class Integrator { symplectic_euler, velocity_verlet, rk4, implicit_euler, local_global };
 
@@ -57,4 +57,4 @@ constexpr double kStableMargin = 0.95;
 // kStableMargin; +infinity for the implicit ones.
 double stable_step(Integrator integrator, const Spectrum& spectrum);
 
-}  // namespace hcosim::massspring
+}  // namespace hcosim::models::massspring

@@ -1,10 +1,10 @@
-#include "massspring/lattice.h"
+#include "models/massspring/lattice.h"
 
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
-namespace hcosim::massspring {
+namespace hcosim::models::massspring {
 namespace {
 
 [[noreturn]] void bad(const std::string& what) { throw std::invalid_argument("lattice: " + what); }
@@ -131,4 +131,4 @@ Lattice make_box(int nx, int ny, int nz, double spacing, const Material& m, Shea
   return l;
 }
 
-}  // namespace hcosim::massspring
+}  // namespace hcosim::models::massspring

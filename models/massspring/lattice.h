@@ -8,7 +8,7 @@
 
 #include <Eigen/Core>
 
-namespace hcosim::massspring {
+namespace hcosim::models::massspring {
 
 // A spring-damper between masses i and j (000 eq 13, 001 eq 2): force
 // k (|l| - rest) along l, plus b times the rate of change of |l|.
@@ -76,4 +76,4 @@ int anchor_where(Lattice& lattice, Pred&& pred) {
   return n;
 }
 
-}  // namespace hcosim::massspring
+}  // namespace hcosim::models::massspring

@@ -1,4 +1,4 @@
-#include "massspring/mesh_lattice.h"
+#include "models/massspring/mesh_lattice.h"
 
 #include <algorithm>
 #include <array>
@@ -10,7 +10,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
-namespace hcosim::massspring {
+namespace hcosim::models::massspring {
 namespace {
 
 [[noreturn]] void fail_at(const std::string& path, int line, const std::string& what) {
@@ -207,4 +207,4 @@ Lattice make_from_mesh(TriangleMesh mesh, double spacing, const Material& m, She
   return l;
 }
 
-}  // namespace hcosim::massspring
+}  // namespace hcosim::models::massspring

@@ -7,9 +7,9 @@
 
 #include <Eigen/Core>
 
-#include "massspring/lattice.h"
+#include "models/massspring/lattice.h"
 
-namespace hcosim::massspring {
+namespace hcosim::models::massspring {
 
 struct TriangleMesh {
   Eigen::Matrix3Xd vertices;             // m
@@ -39,4 +39,4 @@ void check_closed(const TriangleMesh& mesh);
 // the mesh first. Throws std::invalid_argument if no cell is inside.
 Lattice make_from_mesh(TriangleMesh mesh, double spacing, const Material& material, Shear shear = Shear::one);
 
-}  // namespace hcosim::massspring
+}  // namespace hcosim::models::massspring

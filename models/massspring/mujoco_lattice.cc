@@ -1,13 +1,13 @@
-#include "massspring/mujoco_lattice.h"
+#include "models/massspring/mujoco_lattice.h"
 
 #include <sstream>
 #include <stdexcept>
 
 #include <mujoco/mujoco.h>
 
-#include "mjcf/load.h"
+#include "models/mjcf/load.h"
 
-namespace hcosim::massspring {
+namespace hcosim::models::massspring {
 
 struct MujocoLattice::Impl {
   mjModel* model = nullptr;
@@ -64,7 +64,7 @@ MujocoLattice::MujocoLattice(const Lattice& l, double dt, const std::string& int
   if (integrator != "Euler" && integrator != "RK4")
     throw std::invalid_argument("mujoco lattice: integrator must be Euler or RK4, got '" + integrator + "'");
   const std::string text = xml(l, dt, integrator);
-  mjcf::load("mujoco lattice", text, impl_->model, impl_->data);
+  models::mjcf::load("mujoco lattice", text, impl_->model, impl_->data);
   impl_->rest = l.rest;
   impl_->body.resize(l.size());
   impl_->qadr.assign(l.size(), -1);
@@ -102,4 +102,4 @@ Eigen::Matrix3Xd MujocoLattice::positions() const {
 
 double MujocoLattice::time() const { return impl_->data->time; }
 
-}  // namespace hcosim::massspring
+}  // namespace hcosim::models::massspring

@@ -12,10 +12,10 @@
 
 #include <Eigen/Core>
 
-#include "massspring/forces.h"
-#include "massspring/lattice.h"
+#include "models/massspring/forces.h"
+#include "models/massspring/lattice.h"
 
-namespace hcosim::massspring {
+namespace hcosim::models::massspring {
 
 class MujocoLattice {
  public:
@@ -46,4 +46,4 @@ class MujocoLattice {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace hcosim::massspring
+}  // namespace hcosim::models::massspring

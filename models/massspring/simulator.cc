@@ -1,4 +1,4 @@
-#include "massspring/simulator.h"
+#include "models/massspring/simulator.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 
-namespace hcosim::massspring {
+namespace hcosim::models::massspring {
 
 // Index of a lattice: for every mass, its springs and the mass at their other end.
 struct Adjacency {
@@ -464,7 +464,7 @@ Simulator::Simulator(Lattice lattice, const Options& o) {
   impl_ = std::make_unique<Impl>(std::move(lattice), o);
   Impl& m = *impl_;
   m.spectrum = bound_spectrum(m.lat);
-  m.stable = massspring::stable_step(o.integrator, m.spectrum);
+  m.stable = models::massspring::stable_step(o.integrator, m.spectrum);
   if (o.dt > m.stable) {
     const double need = std::ceil(o.dt / m.stable);
     const std::string why = std::string(name(o.integrator)) + ": dt " + fmt(o.dt) + " s exceeds the stable step " +
@@ -564,4 +564,4 @@ const Spectrum& Simulator::spectrum() const { return impl_->spectrum; }
 double Simulator::stable_step() const { return impl_->stable; }
 int Simulator::substeps() const { return impl_->substeps; }
 
-}  // namespace hcosim::massspring
+}  // namespace hcosim::models::massspring

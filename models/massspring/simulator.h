@@ -9,11 +9,11 @@
 
 #include <Eigen/Core>
 
-#include "massspring/forces.h"
-#include "massspring/integrator.h"
-#include "massspring/lattice.h"
+#include "models/massspring/forces.h"
+#include "models/massspring/integrator.h"
+#include "models/massspring/lattice.h"
 
-namespace hcosim::massspring {
+namespace hcosim::models::massspring {
 
 // What an explicit integrator does when dt exceeds its stable step.
 enum class OnUnstable { substep, refuse };
@@ -92,4 +92,4 @@ class Simulator {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace hcosim::massspring
+}  // namespace hcosim::models::massspring

@@ -1,10 +1,10 @@
-#include "mjcf/load.h"
+#include "models/mjcf/load.h"
 
 #include <cstring>
 #include <memory>
 #include <stdexcept>
 
-namespace hcosim::mjcf {
+namespace hcosim::models::mjcf {
 
 void load(const std::string& who, const std::string& xml, mjModel*& model, mjData*& data) {
   // mjVFS holds 2000 file names inline (about 2 MB): too large for the stack.
@@ -25,4 +25,4 @@ void load(const std::string& who, const std::string& xml, mjModel*& model, mjDat
   }
 }
 
-}  // namespace hcosim::mjcf
+}  // namespace hcosim::models::mjcf

@@ -6,11 +6,11 @@
 
 #include <mujoco/mujoco.h>
 
-namespace hcosim::mjcf {
+namespace hcosim::models::mjcf {
 
 // Loads `xml` into *model and allocates its *data. On failure throws
 // std::runtime_error starting with `who` and carrying MuJoCo's message,
 // and leaves nothing allocated.
 void load(const std::string& who, const std::string& xml, mjModel*& model, mjData*& data);
 
-}  // namespace hcosim::mjcf
+}  // namespace hcosim::models::mjcf

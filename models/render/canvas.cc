@@ -1,4 +1,4 @@
-#include "render/canvas.h"
+#include "models/render/canvas.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
-namespace hcosim::render {
+namespace hcosim::models::render {
 namespace {
 
 constexpr double kNear = 0.01;     // m: closer triangles are skipped, not clipped
@@ -17,9 +17,9 @@ constexpr double kAmbient = 0.35;  // shade of a triangle seen edge-on
 
 }  // namespace
 
-Canvas::Canvas(cv::Mat bgr, const vision::Intrinsics& k, const Eigen::Isometry3d& world_in_camera)
+Canvas::Canvas(cv::Mat bgr, const models::vision::Intrinsics& k, const Eigen::Isometry3d& world_in_camera)
     : bgr_(bgr), k_(k), world_in_camera_(world_in_camera) {
-  vision::check(k);
+  models::vision::check(k);
   if (bgr.type() != CV_8UC3 || bgr.cols != k.width || bgr.rows != k.height)
     throw std::invalid_argument("canvas: the image must be 8-bit BGR of the intrinsics' size " +
                                 std::to_string(k.width) + "x" + std::to_string(k.height));
@@ -39,7 +39,7 @@ Eigen::Vector2d Canvas::project(const Eigen::Vector3d& world, double* depth) con
   if (depth) *depth = c.z();
   std::vector<cv::Point3d> in{{c.x(), c.y(), c.z()}};
   std::vector<cv::Point2d> out;
-  cv::projectPoints(in, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), vision::camera_matrix(k_), vision::distortion(k_), out);
+  cv::projectPoints(in, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), models::vision::camera_matrix(k_), models::vision::distortion(k_), out);
   return {out[0].x, out[0].y};
 }
 
@@ -54,7 +54,7 @@ void Canvas::mesh(const Eigen::Matrix3Xd& vertices, const std::vector<std::uint3
   std::vector<cv::Point3d> in(std::size_t(cam.cols()));
   for (Eigen::Index v = 0; v < cam.cols(); ++v) in[std::size_t(v)] = {cam(0, v), cam(1, v), std::max(cam(2, v), kNear)};
   std::vector<cv::Point2d> px;
-  cv::projectPoints(in, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), vision::camera_matrix(k_), vision::distortion(k_), px);
+  cv::projectPoints(in, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), models::vision::camera_matrix(k_), models::vision::distortion(k_), px);
 
   for (std::size_t t = 0; t < triangles.size(); t += 3) {
     const std::uint32_t a = triangles[t], b = triangles[t + 1], c = triangles[t + 2];
@@ -98,4 +98,4 @@ void Canvas::mesh(const Eigen::Matrix3Xd& vertices, const std::vector<std::uint3
   }
 }
 
-}  // namespace hcosim::render
+}  // namespace hcosim::models::render

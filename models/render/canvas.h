@@ -10,9 +10,9 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
-#include "vision/camera.h"
+#include "models/vision/camera.h"
 
-namespace hcosim::render {
+namespace hcosim::models::render {
 
 class Canvas {
  public:
@@ -20,7 +20,7 @@ class Canvas {
   // seen from a camera at `world_in_camera` (the marker's pose in the
   // camera: MarkerPose.tag_in_camera). Throws std::invalid_argument for
   // another image type or size.
-  Canvas(cv::Mat bgr, const vision::Intrinsics& k, const Eigen::Isometry3d& world_in_camera);
+  Canvas(cv::Mat bgr, const models::vision::Intrinsics& k, const Eigen::Isometry3d& world_in_camera);
 
   // The triangles (3 vertex indices each) of `vertices` (3 x n, world
   // frame, m) in `colour`, shaded by how squarely each faces the camera
@@ -43,9 +43,9 @@ class Canvas {
  private:
   cv::Mat bgr_;
   cv::Mat depth_;  // CV_32F, m; +inf where nothing is drawn
-  vision::Intrinsics k_;
+  models::vision::Intrinsics k_;
   Eigen::Isometry3d world_in_camera_;
   std::uint64_t pixels_ = 0;
 };
 
-}  // namespace hcosim::render
+}  // namespace hcosim::models::render

@@ -1,4 +1,4 @@
-#include "render/plot.h"
+#include "models/render/plot.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-namespace hcosim::render {
+namespace hcosim::models::render {
 namespace {
 
 // Tableau-like colours (BGR).
@@ -181,4 +181,4 @@ cv::Mat plot_series(const std::string& title, const std::string& x_label, const 
   return img;
 }
 
-}  // namespace hcosim::render
+}  // namespace hcosim::models::render

@@ -7,7 +7,7 @@
 
 #include <opencv2/core.hpp>
 
-namespace hcosim::render {
+namespace hcosim::models::render {
 
 struct Series {
   std::string label;
@@ -33,4 +33,4 @@ struct Panel {
 // Throws std::invalid_argument when there are no panels.
 cv::Mat plot_series(const std::string& title, const std::string& x_label, const std::vector<Panel>& panels);
 
-}  // namespace hcosim::render
+}  // namespace hcosim::models::render

@@ -1,9 +1,9 @@
-#include "render/shapes.h"
+#include "models/render/shapes.h"
 
 #include <cmath>
 #include <stdexcept>
 
-namespace hcosim::render {
+namespace hcosim::models::render {
 namespace {
 
 void quad(Mesh& m, std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
@@ -79,4 +79,4 @@ Mesh cylinder(double radius, double length, int sides) {
 
 Mesh placed(const Mesh& m, const Eigen::Isometry3d& pose) { return {pose * m.vertices, m.triangles}; }
 
-}  // namespace hcosim::render
+}  // namespace hcosim::models::render

@@ -10,7 +10,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-namespace hcosim::render {
+namespace hcosim::models::render {
 
 struct Mesh {
   Eigen::Matrix3Xd vertices;             // m
@@ -32,4 +32,4 @@ Mesh cylinder(double radius, double length, int sides = 12);
 // `m` moved by `pose`.
 Mesh placed(const Mesh& m, const Eigen::Isometry3d& pose);
 
-}  // namespace hcosim::render
+}  // namespace hcosim::models::render

@@ -1,6 +1,6 @@
-#include "render/view.h"
+#include "models/render/view.h"
 
-namespace hcosim::render {
+namespace hcosim::models::render {
 namespace {
 
 constexpr double kLeastForce = 0.01;  // N: smaller forces draw no arrow
@@ -28,4 +28,4 @@ void draw(const View& v, Canvas& c) {
   if (s.force.norm() >= kLeastForce) c.arrow(s.tip, s.tip + v.force_scale * s.force, kArrow, 3);
 }
 
-}  // namespace hcosim::render
+}  // namespace hcosim::models::render

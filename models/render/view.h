@@ -10,10 +10,10 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
-#include "render/canvas.h"
-#include "render/shapes.h"
+#include "models/render/canvas.h"
+#include "models/render/shapes.h"
 
-namespace hcosim::render {
+namespace hcosim::models::render {
 
 struct Object {
   std::string name;
@@ -44,4 +44,4 @@ cv::Scalar object_colour(std::size_t i);
 // 0.01 N draw no arrow.
 void draw(const View& v, Canvas& c);
 
-}  // namespace hcosim::render
+}  // namespace hcosim::models::render

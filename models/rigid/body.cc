@@ -1,9 +1,9 @@
-#include "rigid/body.h"
+#include "models/rigid/body.h"
 
 #include <cmath>
 #include <stdexcept>
 
-namespace hcosim::rigid {
+namespace hcosim::models::rigid {
 
 const char* name(Shape s) { return s == Shape::cube ? "cube" : "sphere"; }
 
@@ -65,4 +65,4 @@ Eigen::Vector3d angular_momentum(const Body& b) { return b.mass * b.x.cross(b.v)
 
 double kinetic_energy(const Body& b) { return 0.5 * b.mass * b.v.squaredNorm() + 0.5 * inertia(b) * b.w.squaredNorm(); }
 
-}  // namespace hcosim::rigid
+}  // namespace hcosim::models::rigid

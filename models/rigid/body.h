@@ -9,7 +9,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-namespace hcosim::rigid {
+namespace hcosim::models::rigid {
 
 enum class Shape { sphere, cube };
 const char* name(Shape s);
@@ -55,4 +55,4 @@ Eigen::Vector3d momentum(const Body& b);
 Eigen::Vector3d angular_momentum(const Body& b);
 double kinetic_energy(const Body& b);
 
-}  // namespace hcosim::rigid
+}  // namespace hcosim::models::rigid

@@ -1,9 +1,9 @@
-#include "rigid/crosscheck.h"
+#include "models/rigid/crosscheck.h"
 
 #include <algorithm>
 #include <cmath>
 
-namespace hcosim::rigid {
+namespace hcosim::models::rigid {
 
 namespace {
 
@@ -91,4 +91,4 @@ Divergence crosscheck(const Scenario& s, double dt, const MujocoContact& contact
   return d;
 }
 
-}  // namespace hcosim::rigid
+}  // namespace hcosim::models::rigid

@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "rigid/mujoco_world.h"
-#include "rigid/world.h"
+#include "models/rigid/mujoco_world.h"
+#include "models/rigid/world.h"
 
-namespace hcosim::rigid {
+namespace hcosim::models::rigid {
 
 struct Scenario {
   std::string name;
@@ -45,4 +45,4 @@ struct Divergence {
 constexpr double kCrosscheckDt = 1e-4;
 Divergence crosscheck(const Scenario& s, double dt = kCrosscheckDt, const MujocoContact& contact = {});
 
-}  // namespace hcosim::rigid
+}  // namespace hcosim::models::rigid

@@ -1,4 +1,4 @@
-#include "rigid/mujoco_world.h"
+#include "models/rigid/mujoco_world.h"
 
 #include <cmath>
 #include <sstream>
@@ -6,9 +6,9 @@
 
 #include <mujoco/mujoco.h>
 
-#include "mjcf/load.h"
+#include "models/mjcf/load.h"
 
-namespace hcosim::rigid {
+namespace hcosim::models::rigid {
 
 struct MujocoWorld::Impl {
   mjModel* model = nullptr;
@@ -85,7 +85,7 @@ MujocoWorld::MujocoWorld(const WorldSpec& spec, const std::vector<Body>& bodies,
   if (!(c.contact_steps >= 2) || !(c.impedance > 0 && c.impedance < 1))
     throw std::invalid_argument("mujoco world: contact_steps must be >= 2 and impedance in (0, 1)");
   const std::string text = xml(spec, bodies, dt, c);
-  mjcf::load("mujoco world", text, impl_->model, impl_->data);
+  models::mjcf::load("mujoco world", text, impl_->model, impl_->data);
   impl_->spec = spec;
   impl_->constants = bodies;
   mjModel* m = impl_->model;
@@ -163,14 +163,14 @@ void MujocoWorld::step() {
 
 Eigen::Vector3d MujocoWorld::momentum() const {
   Eigen::Vector3d p = impl_->spec.tip_mass * tip().v;
-  for (const Body& b : bodies()) p += rigid::momentum(b);
+  for (const Body& b : bodies()) p += models::rigid::momentum(b);
   return p;
 }
 
 Eigen::Vector3d MujocoWorld::angular_momentum() const {
   const Tip t = tip();
   Eigen::Vector3d l = impl_->spec.tip_mass * t.x.cross(t.v);
-  for (const Body& b : bodies()) l += rigid::angular_momentum(b);
+  for (const Body& b : bodies()) l += models::rigid::angular_momentum(b);
   return l;
 }
 
@@ -182,8 +182,8 @@ Eigen::Vector3d MujocoWorld::subtree_angular_momentum() const {
 
 double MujocoWorld::kinetic_energy() const {
   double e = 0.5 * impl_->spec.tip_mass * tip().v.squaredNorm();
-  for (const Body& b : bodies()) e += rigid::kinetic_energy(b);
+  for (const Body& b : bodies()) e += models::rigid::kinetic_energy(b);
   return e;
 }
 
-}  // namespace hcosim::rigid
+}  // namespace hcosim::models::rigid

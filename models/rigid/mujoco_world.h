@@ -17,9 +17,9 @@
 #include <string>
 #include <vector>
 
-#include "rigid/world.h"
+#include "models/rigid/world.h"
 
-namespace hcosim::rigid {
+namespace hcosim::models::rigid {
 
 struct MujocoContact {
   double contact_steps = 8;     // steps per contact half-period, >= 2
@@ -58,4 +58,4 @@ class MujocoWorld {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace hcosim::rigid
+}  // namespace hcosim::models::rigid

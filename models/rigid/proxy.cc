@@ -1,8 +1,8 @@
-#include "rigid/proxy.h"
+#include "models/rigid/proxy.h"
 
 #include <stdexcept>
 
-namespace hcosim::rigid {
+namespace hcosim::models::rigid {
 
 namespace {
 
@@ -70,4 +70,4 @@ Eigen::Vector3d proxy_force(const Eigen::Vector3d& proxy, const Eigen::Vector3d&
   return f;
 }
 
-}  // namespace hcosim::rigid
+}  // namespace hcosim::models::rigid

@@ -9,9 +9,9 @@
 
 #include <Eigen/Core>
 
-#include "rigid/body.h"
+#include "models/rigid/body.h"
 
-namespace hcosim::rigid {
+namespace hcosim::models::rigid {
 
 class Proxy {
  public:
@@ -33,4 +33,4 @@ class Proxy {
 // max_force (N, the device's limit).
 Eigen::Vector3d proxy_force(const Eigen::Vector3d& proxy, const Eigen::Vector3d& h, double stiffness, double max_force);
 
-}  // namespace hcosim::rigid
+}  // namespace hcosim::models::rigid

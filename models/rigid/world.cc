@@ -1,4 +1,4 @@
-#include "rigid/world.h"
+#include "models/rigid/world.h"
 
 #include <algorithm>
 #include <array>
@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace hcosim::rigid {
+namespace hcosim::models::rigid {
 
 namespace {
 
@@ -282,20 +282,20 @@ StepReport World::step(double dt) {
 
 Eigen::Vector3d World::momentum() const {
   Eigen::Vector3d p = spec_.tip_mass * tip_.v;
-  for (const Body& b : bodies_) p += rigid::momentum(b);
+  for (const Body& b : bodies_) p += models::rigid::momentum(b);
   return p;
 }
 
 Eigen::Vector3d World::angular_momentum() const {
   Eigen::Vector3d l = spec_.tip_mass * tip_.x.cross(tip_.v);
-  for (const Body& b : bodies_) l += rigid::angular_momentum(b);
+  for (const Body& b : bodies_) l += models::rigid::angular_momentum(b);
   return l;
 }
 
 double World::kinetic_energy() const {
   double e = 0.5 * spec_.tip_mass * tip_.v.squaredNorm();
-  for (const Body& b : bodies_) e += rigid::kinetic_energy(b);
+  for (const Body& b : bodies_) e += models::rigid::kinetic_energy(b);
   return e;
 }
 
-}  // namespace hcosim::rigid
+}  // namespace hcosim::models::rigid

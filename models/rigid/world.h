@@ -16,9 +16,9 @@
 
 #include <Eigen/Core>
 
-#include "rigid/body.h"
+#include "models/rigid/body.h"
 
-namespace hcosim::rigid {
+namespace hcosim::models::rigid {
 
 // Restitution e in [0, 1] (1: elastic) and Coulomb friction mu >= 0.
 struct Material {
@@ -114,4 +114,4 @@ Eigen::Vector3d contact_impulse(const Body& b, double tip_mass, const Eigen::Vec
 // advancement for a cube.
 double time_of_impact(const Body& b, const Tip& tip, double tip_radius, double dt);
 
-}  // namespace hcosim::rigid
+}  // namespace hcosim::models::rigid

@@ -1,4 +1,4 @@
-#include "vision/camera.h"
+#include "models/vision/camera.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -7,7 +7,7 @@
 
 #include <opencv2/calib3d.hpp>
 
-namespace hcosim::vision {
+namespace hcosim::models::vision {
 
 void check(const Intrinsics& k) {
   if (k.width < 16 || k.height < 16 || k.width > 8192 || k.height > 8192)
@@ -42,4 +42,4 @@ Eigen::Vector2d project(const Intrinsics& k, const Eigen::Isometry3d& tag_in_cam
   return {out[0].x, out[0].y};
 }
 
-}  // namespace hcosim::vision
+}  // namespace hcosim::models::vision

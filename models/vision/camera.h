@@ -10,7 +10,7 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
-namespace hcosim::vision {
+namespace hcosim::models::vision {
 
 struct Intrinsics {
   int width = 640, height = 480;       // px
@@ -33,4 +33,4 @@ cv::Mat distortion(const Intrinsics& k);  // 1x5, CV_64F
 // Where the tag frame's point p (m) appears, for the tag at `tag_in_camera`.
 Eigen::Vector2d project(const Intrinsics& k, const Eigen::Isometry3d& tag_in_camera, const Eigen::Vector3d& p);
 
-}  // namespace hcosim::vision
+}  // namespace hcosim::models::vision

@@ -1,4 +1,4 @@
-#include "vision/detector.h"
+#include "models/vision/detector.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +12,7 @@ extern "C" {
 #include <apriltag/apriltag.h>
 }
 
-namespace hcosim::vision {
+namespace hcosim::models::vision {
 
 void check(const DetectorParams& p) {
   if (!(p.quad_decimate >= 1 && p.quad_decimate <= 8)) throw std::invalid_argument("detector: quad_decimate must be in [1, 8]");
@@ -146,4 +146,4 @@ std::vector<Detection> Detector::detect(const cv::Mat& grey) const {
   return out;
 }
 
-}  // namespace hcosim::vision
+}  // namespace hcosim::models::vision

@@ -11,11 +11,11 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
-#include "vision/tag.h"
+#include "models/vision/tag.h"
 
 struct apriltag_detector;
 
-namespace hcosim::vision {
+namespace hcosim::models::vision {
 
 struct DetectorParams {
   std::string family = "tag36h11";
@@ -67,4 +67,4 @@ class Detector {
   apriltag_detector* detector_ = nullptr;
 };
 
-}  // namespace hcosim::vision
+}  // namespace hcosim::models::vision

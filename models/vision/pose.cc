@@ -1,4 +1,4 @@
-#include "vision/pose.h"
+#include "models/vision/pose.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
-namespace hcosim::vision {
+namespace hcosim::models::vision {
 
 namespace {
 
@@ -97,4 +97,4 @@ TagPose estimate_pose(const std::array<Eigen::Vector2d, 4>& corners, double tag_
   return out;
 }
 
-}  // namespace hcosim::vision
+}  // namespace hcosim::models::vision

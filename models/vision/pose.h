@@ -11,9 +11,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "vision/camera.h"
+#include "models/vision/camera.h"
 
-namespace hcosim::vision {
+namespace hcosim::models::vision {
 
 struct PoseOptions {
   bool refine = true;            // Levenberg-Marquardt on the reprojection error after IPPE
@@ -37,4 +37,4 @@ TagPose estimate_pose(const std::array<Eigen::Vector2d, 4>& corners, double tag_
 // Rotation angle between two orientations, rad.
 double angle_between(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b);
 
-}  // namespace hcosim::vision
+}  // namespace hcosim::models::vision

@@ -1,4 +1,4 @@
-#include "vision/synthetic.h"
+#include "models/vision/synthetic.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
-namespace hcosim::vision {
+namespace hcosim::models::vision {
 
 namespace {
 
@@ -239,4 +239,4 @@ double registration_error_px(const Intrinsics& k, const Eigen::Isometry3d& estim
   return worst;
 }
 
-}  // namespace hcosim::vision
+}  // namespace hcosim::models::vision

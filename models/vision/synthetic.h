@@ -13,10 +13,10 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
-#include "vision/camera.h"
-#include "vision/tag.h"
+#include "models/vision/camera.h"
+#include "models/vision/tag.h"
 
-namespace hcosim::vision {
+namespace hcosim::models::vision {
 
 struct Marker {
   std::string family = "tag36h11";
@@ -106,4 +106,4 @@ Eigen::Isometry3d orbit(double t, const Orbit& o = {});
 double registration_error_px(const Intrinsics& k, const Eigen::Isometry3d& estimated, const Eigen::Isometry3d& truth,
                              const std::vector<Eigen::Vector3d>& points);
 
-}  // namespace hcosim::vision
+}  // namespace hcosim::models::vision

@@ -1,4 +1,4 @@
-#include "vision/tag.h"
+#include "models/vision/tag.h"
 
 #include <cstring>
 #include <stdexcept>
@@ -11,7 +11,7 @@ extern "C" {
 #include <apriltag/tagStandard41h12.h>
 }
 
-namespace hcosim::vision {
+namespace hcosim::models::vision {
 
 namespace {
 
@@ -54,4 +54,4 @@ cv::Mat Family::image(int id) const {
   return out;
 }
 
-}  // namespace hcosim::vision
+}  // namespace hcosim::models::vision

@@ -9,7 +9,7 @@
 
 struct apriltag_family;
 
-namespace hcosim::vision {
+namespace hcosim::models::vision {
 
 class Family {
  public:
@@ -33,4 +33,4 @@ class Family {
   apriltag_family* family_ = nullptr;
 };
 
-}  // namespace hcosim::vision
+}  // namespace hcosim::models::vision

@@ -1,4 +1,4 @@
-#include "vision/tracker.h"
+#include "models/vision/tracker.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-namespace hcosim::vision {
+namespace hcosim::models::vision {
 
 void check(const TrackerParams& p) {
   check(p.detector);
@@ -53,4 +53,4 @@ std::vector<Observation> Tracker::track(const cv::Mat& frame) {
   return out;
 }
 
-}  // namespace hcosim::vision
+}  // namespace hcosim::models::vision

@@ -9,11 +9,11 @@
 
 #include <opencv2/core.hpp>
 
-#include "vision/camera.h"
-#include "vision/detector.h"
-#include "vision/pose.h"
+#include "models/vision/camera.h"
+#include "models/vision/detector.h"
+#include "models/vision/pose.h"
 
-namespace hcosim::vision {
+namespace hcosim::models::vision {
 
 struct TrackerParams {
   DetectorParams detector;
@@ -52,4 +52,4 @@ class Tracker {
   std::uint64_t unposed_ = 0;
 };
 
-}  // namespace hcosim::vision
+}  // namespace hcosim::models::vision

@@ -13,15 +13,15 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "render/ar_idl.h"
-#include "render/plot.h"
-#include "rigid/body.h"
-#include "service.h"
-#include "vision/media.h"
-#include "vision/vision_idl.h"
+#include "adapters/render/ar_idl.h"
+#include "models/render/plot.h"
+#include "models/rigid/body.h"
+#include "services/runtime/service.h"
+#include "adapters/vision/media.h"
+#include "adapters/vision/vision_idl.h"
 
 using namespace hcosim;
-using namespace hcosim::rt;
+using namespace hcosim::services::runtime;
 namespace fs = std::filesystem;
 
 namespace {
@@ -69,8 +69,8 @@ std::vector<Item> items_of(const Params& p) {
     if (it.name.empty()) o.fail("name", "each object needs a name");
     it.kind = o.text("kind", "deformable", {"rigid", "deformable"});
     // A rigid body's size means what the rigid service reads, with its default.
-    if (it.kind == "rigid") it.size = o.number("size", rigid::Body().size, 1e-3, 1);
-    it.colour = render::object_colour(items.size());
+    if (it.kind == "rigid") it.size = o.number("size", models::rigid::Body().size, 1e-3, 1);
+    it.colour = models::render::object_colour(items.size());
     items.push_back(it);
   }
   return items;
@@ -80,10 +80,10 @@ std::string seconds(double t) { return cv::format("%05.1fs", t); }
 
 void write_plots(const fs::path& dir, const std::map<std::string, Trace>& traces) {
   fs::create_directories(dir);
-  render::Panel all_force{"force on the stylus (N)", {}}, all_depth{"penetration (mm)", {}};
+  models::render::Panel all_force{"force on the stylus (N)", {}}, all_depth{"penetration (mm)", {}};
   for (const auto& [name, tr] : traces) {
-    vision::write_image((dir / (name + ".png")).string(),
-                        render::plot_series(name + ": force and penetration against simulated time",
+    adapters::vision::write_image((dir / (name + ".png")).string(),
+                        models::render::plot_series(name + ": force and penetration against simulated time",
                                             "simulated time (s)",
                                             {{"force on the stylus (N)", {{name, tr.t, tr.force}}},
                                              {"penetration (mm)", {{name, tr.t, tr.depth_mm}}}}));
@@ -91,8 +91,8 @@ void write_plots(const fs::path& dir, const std::map<std::string, Trace>& traces
     all_depth.series.push_back({name, tr.t, tr.depth_mm});
   }
   if (!traces.empty())
-    vision::write_image((dir / "all.png").string(),
-                        render::plot_series("every object: force and penetration against simulated time",
+    adapters::vision::write_image((dir / "all.png").string(),
+                        models::render::plot_series("every object: force and penetration against simulated time",
                                             "simulated time (s)", {all_force, all_depth}));
 }
 
@@ -109,7 +109,7 @@ int run(int argc, char** argv) {
   std::sort(snapshots.begin(), snapshots.end());
   const bool plots = p.on("plots", true);
   const bool show_stylus = p.on("stylus", true);
-  render::View view;
+  models::render::View view;
   view.force_scale = p.number("force_scale", view.force_scale, 0, 1);
   const fs::path out = svc.options().out;
   const std::string video_name = p.string("video", "ar.mp4");
@@ -134,7 +134,7 @@ int run(int argc, char** argv) {
   std::optional<HapticState> stylus;
   std::optional<MarkerPose> pose;
   std::optional<std::uint64_t> last_frame;
-  std::optional<vision::VideoOut> video;
+  std::optional<adapters::vision::VideoOut> video;
   cv::Mat composite;
   std::size_t next_snapshot = 0;
   Window render_ms(1 << 16), cover_pct(1 << 16);
@@ -142,30 +142,30 @@ int run(int argc, char** argv) {
   std::vector<std::string> pictures;
 
   const auto compose = [&](const CameraFrame& f) {
-    composite = vision::bgr_image(f);
+    composite = adapters::vision::bgr_image(f);
     if (!pose) return ++unregistered, void();
     if (pose->frame() != f.frame()) ++stale_pose;
     view.objects.clear();
     for (const Item& it : items) {
       if (it.kind == "rigid") {
         if (auto b = body.find(it.name); b != body.end())
-          view.objects.push_back({it.name, render::body(b->second, it.size), it.colour});
+          view.objects.push_back({it.name, adapters::render::body(b->second, it.size), it.colour});
         continue;
       }
       const auto m = mesh.find(it.name);
       const auto t = topology.find(it.name);
       if (m == mesh.end() || t == topology.end()) continue;
       try {
-        view.objects.push_back({it.name, render::mesh(m->second, t->second), it.colour});
+        view.objects.push_back({it.name, adapters::render::mesh(m->second, t->second), it.colour});
       } catch (const std::invalid_argument& e) {
         // A mesh of a topology not yet received: drawn from the next frame on.
         if (++bad <= 3) std::fprintf(stderr, "%s: %s\n", name.c_str(), e.what());
       }
     }
     view.stylus.reset();
-    if (stylus && show_stylus) view.stylus = render::stylus(*stylus);
-    render::Canvas canvas(composite, vision::intrinsics(f), vision::from_idl(pose->tag_in_camera()));
-    render::draw(view, canvas);
+    if (stylus && show_stylus) view.stylus = adapters::render::stylus(*stylus);
+    models::render::Canvas canvas(composite, adapters::vision::intrinsics(f), adapters::vision::from_idl(pose->tag_in_camera()));
+    models::render::draw(view, canvas);
     cover_pct.add(100.0 * double(canvas.pixels()) / double(composite.total()));
   };
 
@@ -205,7 +205,7 @@ int run(int argc, char** argv) {
       for (; next_snapshot < snapshots.size() && t + 1e-9 >= snapshots[next_snapshot]; ++next_snapshot) {
         const fs::path png = out / "snapshots" / ("ar_" + seconds(snapshots[next_snapshot]) + ".png");
         fs::create_directories(png.parent_path());
-        vision::write_image(png.string(), composite);
+        adapters::vision::write_image(png.string(), composite);
         pictures.push_back(png.string());
       }
       render_ms.add((mono_ns() - t0) * 1e-6);

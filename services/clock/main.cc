@@ -8,10 +8,10 @@
 #include <set>
 #include <thread>
 
-#include "service.h"
+#include "services/runtime/service.h"
 
 using namespace hcosim;
-using namespace hcosim::rt;
+using namespace hcosim::services::runtime;
 
 namespace {
 

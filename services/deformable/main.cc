@@ -16,67 +16,67 @@
 #include <thread>
 #include <vector>
 
-#include "deformable/elastic_surface.h"
-#include "deformable/hybrid.h"
-#include "deformable/map_cache.h"
-#include "deformable/mesh_idl.h"
-#include "device/haptic_idl.h"
-#include "haptic_answer.h"
-#include "service.h"
+#include "models/deformable/elastic_surface.h"
+#include "models/deformable/hybrid.h"
+#include "adapters/deformable/map_cache.h"
+#include "adapters/deformable/mesh_idl.h"
+#include "adapters/device/haptic_idl.h"
+#include "services/runtime/haptic_answer.h"
+#include "services/runtime/service.h"
 
 using namespace hcosim;
-using namespace hcosim::rt;
+using namespace hcosim::services::runtime;
 
 namespace {
 
 struct Item {
   std::string name;
-  std::unique_ptr<deformable::Object> model;
+  std::unique_ptr<models::deformable::Object> model;
   double behavior_time = 0;  // s, simulated time the behavior model reached
   std::uint64_t contacts = 0;  // ticks in contact
   double max_force = 0;        // N
   std::uint64_t frames = 0;    // meshes published
-  device::Feel said;           // the last answer written (haptic thread)
+  adapters::device::Feel said;           // the last answer written (haptic thread)
   std::uint64_t said_seq = 0;  // the state it answered
 };
 
 // Kept from an object's reach by a free-space answer: the reach is exact
-// (deformable::Object::reach), so only rounding, and a HIP that moves on
+// (models::deformable::Object::reach), so only rounding, and a HIP that moves on
 // while its answer is computed, are covered.
 constexpr double kFreeMarginM = 0.001;
 
 // How far the HIP may go with nothing of the object near.
-double free_clearance(const deformable::Object& o, const Eigen::Vector3d& hip) {
+double free_clearance(const models::deformable::Object& o, const Eigen::Vector3d& hip) {
   return o.reach().exteriorDistance(hip) - kFreeMarginM;
 }
 
 // `cache`: the folder that keeps hybrid objects' visual maps between runs.
-std::unique_ptr<deformable::Object> make_object(const Params& o, const std::string& name, double servo_dt,
+std::unique_ptr<models::deformable::Object> make_object(const Params& o, const std::string& name, double servo_dt,
                                                 const std::string& cache) {
   const std::string model = o.text("model", "hybrid", {"hybrid", "sheet", "semisphere"});
   const auto c = o.vec3("centre", {0, 0, model == "hybrid" ? 0.05 : 0});
   if (model == "hybrid") {
     o.allow_only({"name", "model", "centre", "size", "elements", "stiff_ratio", "map", "keep", "behavior_rate",
                   "visual_subdivisions", "rounding"});
-    deformable::HybridSpec s;
+    models::deformable::HybridSpec s;
     s.centre = {c[0], c[1], c[2]};
     s.size = o.number("size", s.size, 0.01, 2);
     s.elements = o.whole("elements", s.elements, 3, 100);
     s.stiff_ratio = o.number("stiff_ratio", s.stiff_ratio, 1, 100);
-    s.map = deformable::parse_visual_map(o.text("map", "mvc_sparse", {"mvc", "mvc_sparse", "trilinear"}));
+    s.map = models::deformable::parse_visual_map(o.text("map", "mvc_sparse", {"mvc", "mvc_sparse", "trilinear"}));
     s.keep = o.number("keep", s.keep, 0.5, 1);
     s.behavior.dt = 1 / o.number("behavior_rate", 1000, 10, 10000);
     s.visual_subdivisions = o.whole("visual_subdivisions", s.visual_subdivisions, 1, 300);
     s.visual_exponent = o.number("rounding", s.visual_exponent, 2, 64);
     std::printf("%s: hybrid, %d^3 chains and masses, %d visual vertices by %s; building the map (kept in %s)\n",
-                name.c_str(), s.elements, 6 * s.visual_subdivisions * s.visual_subdivisions + 2, deformable::name(s.map),
+                name.c_str(), s.elements, 6 * s.visual_subdivisions * s.visual_subdivisions + 2, models::deformable::name(s.map),
                 cache.c_str());
     std::fflush(stdout);
-    return std::make_unique<deformable::Hybrid>(s, deformable::map_cache(cache, s));
+    return std::make_unique<models::deformable::Hybrid>(s, adapters::deformable::map_cache(cache, s));
   }
   o.allow_only({"name", "model", "centre", "size", "resolution", "stiffness", "damping", "prestretch"});
-  deformable::SurfaceSpec s;
-  s.shape = model == "sheet" ? deformable::Shape::sheet : deformable::Shape::semisphere;
+  models::deformable::SurfaceSpec s;
+  s.shape = model == "sheet" ? models::deformable::Shape::sheet : models::deformable::Shape::semisphere;
   s.centre = {c[0], c[1], c[2]};
   s.size = o.number("size", s.size, 0.01, 2);
   s.resolution = o.whole("resolution", s.resolution, 3, 200);
@@ -84,15 +84,15 @@ std::unique_ptr<deformable::Object> make_object(const Params& o, const std::stri
   s.material.b = o.number("damping", s.material.b, 0, 1e3);
   s.prestretch = o.number("prestretch", s.prestretch, 0, 0.4);
   s.options.dt = servo_dt;
-  return std::make_unique<deformable::ElasticSurface>(s);
+  return std::make_unique<models::deformable::ElasticSurface>(s);
 }
 
 // What the device feels from one object's touch, with the local model it
 // renders until the next answer: stiffness along the face's normal (in a
 // grab the object pulls, so no one-sided test).
-device::Feel feel(const deformable::Touch& t, const Eigen::Vector3d& hip, bool grab, double clearance) {
-  if (!t.in_contact) return device::free_feel(hip, clearance);
-  device::Feel f = device::contact_feel(t.force, hip, t.normal, t.stiffness, t.depth, device::kContactModelRadius);
+adapters::device::Feel feel(const models::deformable::Touch& t, const Eigen::Vector3d& hip, bool grab, double clearance) {
+  if (!t.in_contact) return adapters::device::free_feel(hip, clearance);
+  adapters::device::Feel f = adapters::device::contact_feel(t.force, hip, t.normal, t.stiffness, t.depth, adapters::device::kContactModelRadius);
   if (grab) f.normal.setZero();
   return f;
 }
@@ -141,7 +141,7 @@ class VisualWorker {
         const std::int64_t t0 = mono_ns();
         for (std::size_t k = 0; k < items_.size(); ++k) {
           Item& it = items_[k];
-          deformable::fill_mesh(sample_, it.name, stamp_, it.model->surface_from(cages_[k]), it.model->triangles());
+          adapters::deformable::fill_mesh(sample_, it.name, stamp_, it.model->surface_from(cages_[k]), it.model->triangles());
           out_.write(sample_);
           ++it.frames;
         }
@@ -189,7 +189,7 @@ int run(int argc, char** argv) {
   Writer<DeformedMesh> meshes(svc.participant());
   Writer<MeshTopology> topology(svc.participant());
   for (Item& it : items) {
-    MeshTopology t = deformable::mesh_topology(it.name, int(it.model->surface().cols()), it.model->triangles());
+    MeshTopology t = adapters::deformable::mesh_topology(it.name, int(it.model->surface().cols()), it.model->triangles());
     topology.write(t);
   }
   // What touch() changes is shared by the haptic thread and the loop's
@@ -199,18 +199,18 @@ int run(int argc, char** argv) {
   Window answer_us(1 << 16), behavior_us(1 << 16);
   // Every object's answer to one state, written as soon as it is computed.
   // In real time an object whose last answer still covers the HIP with
-  // free space (device::answer_covered) is touched after the others and
+  // free space (adapters::device::answer_covered) is touched after the others and
   // not answered: the device renders it without waiting, and the answers
   // it waits for go out first.
   const bool realtime = svc.options().mode == Mode::kRealtime;
   std::uint64_t unanswered = 0;  // object-states left to a free-space answer
   const auto answer = [&](const HapticState& s, const StepStamp& stamp) {
     const std::int64_t t0 = mono_ns();
-    const Eigen::Vector3d hip = device::from_idl(s.position());
+    const Eigen::Vector3d hip = adapters::device::from_idl(s.position());
     const bool grab = s.buttons() & 1u;
     const auto one = [&](std::size_t k, bool write) {
       Item& it = items[k];
-      deformable::Touch t;
+      models::deformable::Touch t;
       double clearance;
       {
         std::lock_guard<PiMutex> l(*locks[k]);
@@ -222,13 +222,13 @@ int run(int argc, char** argv) {
       if (!write && !t.in_contact) return ++unanswered, void();
       it.said = feel(t, hip, grab, clearance);
       it.said_seq = s.seq();
-      ForceFeedback f = device::force_feedback(it.name, device, s.seq(), stamp, it.said);
+      ForceFeedback f = adapters::device::force_feedback(it.name, device, s.seq(), stamp, it.said);
       force.write(f);
     };
     // Pass 0 answers the objects the device waits for, pass 1 touches the rest.
     for (int pass = 0; pass < 2; ++pass)
       for (std::size_t k = 0; k < items.size(); ++k) {
-        const bool covered = realtime && device::answer_covered(items[k].said, items[k].said_seq, hip, s.seq(), servo_dt);
+        const bool covered = realtime && adapters::device::answer_covered(items[k].said, items[k].said_seq, hip, s.seq(), servo_dt);
         if (covered == (pass == 1)) one(k, !covered);
       }
     answer_us.add((mono_ns() - t0) * 1e-3);

@@ -16,18 +16,18 @@
 #include <optional>
 #include <vector>
 
-#include "device/haptic_idl.h"
-#include "device/replay.h"
-#include "device/script_yaml.h"
-#include "device/simulated_omni.h"
-#include "haptic/force_sum.h"
-#include "haptic/local_model.h"
-#include "haptic/passivity.h"
-#include "json.h"
-#include "service.h"
+#include "adapters/device/haptic_idl.h"
+#include "adapters/device/replay.h"
+#include "adapters/device/script_yaml.h"
+#include "adapters/device/simulated_omni.h"
+#include "adapters/json.h"
+#include "models/haptic/force_sum.h"
+#include "models/haptic/local_model.h"
+#include "models/haptic/passivity.h"
+#include "services/runtime/service.h"
 
 using namespace hcosim;
-using namespace hcosim::rt;
+using namespace hcosim::services::runtime;
 
 namespace {
 
@@ -93,23 +93,23 @@ int run(int argc, char** argv) {
   const bool replay = p.text("device", "simulated", {"simulated", "replay"}) == "replay";
   const std::string source = p.path(replay ? "replay" : "script");
   if (source.empty())
-    throw ConfigError(std::string("hcosim_haptic: params.") + (replay ? "replay (a recorded trajectory, CSV)" : "script (a virtual-user script)") +
+    throw adapters::ConfigError(std::string("hcosim_haptic: params.") + (replay ? "replay (a recorded trajectory, CSV)" : "script (a virtual-user script)") +
                       " is required; docs/haptic.md");
-  haptic::OmniSpec spec;
+  models::haptic::OmniSpec spec;
   const auto c = p.vec3("centre", {0, 0, 0});
   spec.centre = {c[0], c[1], c[2]};
   spec.servo_hz = svc.options().rate_hz;
-  haptic::Hand hand;
+  models::haptic::Hand hand;
   hand.stiffness = p.number("hand_stiffness", hand.stiffness, 1, 1e4);
   hand.damping = p.number("hand_damping", hand.damping, 0, 1e3);
   const bool passivity = p.on("passivity", true);
   const double dt = 1 / spec.servo_hz;
-  haptic::PassivityController pc(dt, p.number("max_damping", 20, 1e-3, 1e3), p.number("reservoir", 1e-4, 1e-9, 10));
-  haptic::ForceSum sum(p.number("source_timeout", 0.05, 1e-3, 10));
-  std::unique_ptr<device::Device> dev;
-  if (replay) dev = std::make_unique<device::Replay>(spec, device::load_trajectory(source));
-  else dev = std::make_unique<device::SimulatedOmni>(spec, hand, device::load_script(source));
-  device::Device& omni = *dev;
+  models::haptic::PassivityController pc(dt, p.number("max_damping", 20, 1e-3, 1e3), p.number("reservoir", 1e-4, 1e-9, 10));
+  models::haptic::ForceSum sum(p.number("source_timeout", 0.05, 1e-3, 10));
+  std::unique_ptr<adapters::device::Device> dev;
+  if (replay) dev = std::make_unique<adapters::device::Replay>(spec, adapters::device::load_trajectory(source));
+  else dev = std::make_unique<adapters::device::SimulatedOmni>(spec, hand, adapters::device::load_script(source));
+  adapters::device::Device& omni = *dev;
   // Real time: how long a tick waits for its answers before it renders;
   // the rest of the tick renders and outputs.
   const double answer_wait = p.number("answer_wait", kAnswerShare * dt, 0, 0.9 * dt);
@@ -147,18 +147,18 @@ int run(int argc, char** argv) {
   };
   const auto handle = [&](const ForceFeedback& s, double now) {
     const std::string from = s.source().to_string();
-    const haptic::LocalModel model = device::local_model(s);
+    const models::haptic::LocalModel model = adapters::device::local_model(s);
     // The round trip and the rendered-force error are those of answers the
     // device waits for: a free-space one is rendered without waiting,
     // whenever it comes, and is exact.
-    const bool free = haptic::covers(model, model.position);
+    const bool free = models::haptic::covers(model, model.position);
     if (!free) rtt.answered(s.answers_seq(), mono_ns());
     if (s.answers_seq() == seq) {
       if (!has(answered, from)) answered.push_back(from);
     }
     // A late answer: what the user felt in its place, against it.
     else if (const auto r = rendered.at(from, s.answers_seq()); r && !free)
-      error_n.add((device::from_idl(s.force()) - *r).norm());
+      error_n.add((adapters::device::from_idl(s.force()) - *r).norm());
     auto [it, fresh] = newest.try_emplace(from, s.answers_seq());
     if (!fresh && s.answers_seq() < it->second) return;  // an older answer overtaken by a newer one
     it->second = s.answers_seq();
@@ -170,9 +170,9 @@ int run(int argc, char** argv) {
   };
   const int status = svc.run([&](const Tick& tick) {
     jitter_us.add(tick.late_us);
-    const device::Frame f = omni.begin_frame();
+    const adapters::device::Frame f = omni.begin_frame();
     const double now = tick.sim_time_ns * 1e-9;
-    HapticState hs = device::haptic_state(name, seq, svc.stamp(tick), f, applied);
+    HapticState hs = adapters::device::haptic_state(name, seq, svc.stamp(tick), f, applied);
     const std::int64_t sent = mono_ns();
     rtt.sent(seq, sent);
     out.write(hs);
@@ -206,12 +206,12 @@ int run(int argc, char** argv) {
       };
       take();
       // A source whose latest answer is a free-space model reaching the
-      // HIP (nothing of it near, haptic::covers) renders exactly zero: no
+      // HIP (nothing of it near, models::haptic::covers) renders exactly zero: no
       // newer answer is needed, and none is waited for.
       sum.expire(now);
       for (const auto& [from, last] : newest) {
         if (!sum.has(from)) continue;
-        if (double(seq - last) * dt <= haptic::kFreeHorizonS && sum.covers(from, f.position)) ++covered;
+        if (double(seq - last) * dt <= models::haptic::kFreeHorizonS && sum.covers(from, f.position)) ++covered;
         else expected.push_back(from);
       }
       // In lockstep outside a group, this tick's answers belong to the next
@@ -240,7 +240,7 @@ int run(int argc, char** argv) {
   if (!report.empty()) {
     // Percentiles of no sample are NaN (no late answer: no error), which
     // Json writes as null.
-    Json j;
+    adapters::Json j;
     j.begin_object();
     j.key("ticks").value(std::uint64_t(seq)).key("answered").value(std::uint64_t(w.size()));
     j.key("p50_us").value(w.percentile(0.5)).key("p99_us").value(w.percentile(0.99));

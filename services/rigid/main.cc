@@ -14,17 +14,17 @@
 #include <memory>
 #include <vector>
 
-#include "device/haptic_idl.h"
-#include "haptic/local_model.h"
-#include "rigid/mujoco_world.h"
-#include "rigid/proxy.h"
-#include "rigid/rigid_idl.h"
-#include "rigid/world.h"
-#include "haptic_answer.h"
-#include "service.h"
+#include "adapters/device/haptic_idl.h"
+#include "models/haptic/local_model.h"
+#include "models/rigid/mujoco_world.h"
+#include "models/rigid/proxy.h"
+#include "adapters/rigid/rigid_idl.h"
+#include "models/rigid/world.h"
+#include "services/runtime/haptic_answer.h"
+#include "services/runtime/service.h"
 
 using namespace hcosim;
-using namespace hcosim::rt;
+using namespace hcosim::services::runtime;
 
 namespace {
 
@@ -47,16 +47,16 @@ struct Item {
   bool was_sleeping = false;
 };
 
-rigid::Material material(const Params& p, const std::string& prefix, rigid::Material m) {
+models::rigid::Material material(const Params& p, const std::string& prefix, models::rigid::Material m) {
   m.restitution = p.number(prefix + "restitution", m.restitution, 0, 1);
   m.friction = p.number(prefix + "friction", m.friction, 0, 10);
   return m;
 }
 
-rigid::Body make_body(const Params& o, bool ground) {
+models::rigid::Body make_body(const Params& o, bool ground) {
   o.allow_only({"name", "shape", "size", "mass", "centre", "velocity", "angular_velocity"});
-  rigid::Body b;
-  b.shape = rigid::parse_shape(o.text("shape", "sphere", {"sphere", "cube"}));
+  models::rigid::Body b;
+  b.shape = models::rigid::parse_shape(o.text("shape", "sphere", {"sphere", "cube"}));
   b.size = o.number("size", b.size, 1e-3, 1);
   b.mass = o.number("mass", b.mass, 1e-3, 100);
   const auto c = o.vec3("centre", {0, 0, b.size});
@@ -77,9 +77,9 @@ rigid::Body make_body(const Params& o, bool ground) {
 // the tip's radius, what the body may travel meanwhile at its current
 // speed (a hit body slows; gravity adds under 2 mm in 20 ms) and a margin
 // for that.
-double free_clearance(const rigid::Body& b, double tip_radius, const Eigen::Vector3d& hip) {
-  const double reach = b.shape == rigid::Shape::sphere ? b.size : std::sqrt(3.0) * b.size;
-  const double travel = (b.v.norm() + b.w.norm() * reach) * haptic::kFreeHorizonS;
+double free_clearance(const models::rigid::Body& b, double tip_radius, const Eigen::Vector3d& hip) {
+  const double reach = b.shape == models::rigid::Shape::sphere ? b.size : std::sqrt(3.0) * b.size;
+  const double travel = (b.v.norm() + b.w.norm() * reach) * models::haptic::kFreeHorizonS;
   return (hip - b.x).norm() - reach - tip_radius - travel - kFreeMarginM;
 }
 
@@ -91,7 +91,7 @@ int run(int argc, char** argv) {
   const std::string device = p.string("device", "omni");
   const std::string backend = p.text("backend", "analytic", {"analytic", "mujoco", "crosscheck"});
   const double dt = 1 / svc.options().rate_hz;
-  rigid::WorldSpec spec;
+  models::rigid::WorldSpec spec;
   spec.ground = p.on("ground", true);
   spec.tip = material(p, "", spec.tip);
   spec.floor = material(p, "floor_", spec.floor);
@@ -102,7 +102,7 @@ int run(int argc, char** argv) {
   const int substeps = p.whole("mujoco_substeps", 10, 1, 100);
 
   std::vector<Item> items;
-  std::vector<rigid::Body> bodies;
+  std::vector<models::rigid::Body> bodies;
   for (const Params& o : p.list("bodies")) {
     const std::string name = o.string("name", "");
     if (name.empty() || name.size() > 31) o.fail("name", "each body needs a name of 1 to 31 characters");
@@ -115,22 +115,22 @@ int run(int argc, char** argv) {
 
   // The primary model gives the states and the forces; in crosscheck mode
   // MuJoCo runs beside the analytic model and only its divergence is told.
-  std::unique_ptr<rigid::World> analytic;
-  std::unique_ptr<rigid::MujocoWorld> mujoco;
-  if (backend != "mujoco") analytic = std::make_unique<rigid::World>(spec, bodies);
+  std::unique_ptr<models::rigid::World> analytic;
+  std::unique_ptr<models::rigid::MujocoWorld> mujoco;
+  if (backend != "mujoco") analytic = std::make_unique<models::rigid::World>(spec, bodies);
   if (backend != "analytic") {
     std::printf("%s: building the MuJoCo scene, %d substeps of %.3g ms per tick\n", svc.options().name.c_str(),
                 substeps, 1e3 * dt / substeps);
     std::fflush(stdout);
-    mujoco = std::make_unique<rigid::MujocoWorld>(spec, bodies, dt / substeps);
+    mujoco = std::make_unique<models::rigid::MujocoWorld>(spec, bodies, dt / substeps);
   }
   const char* primary = analytic ? "analytic" : "mujoco";
   const auto body = [&](std::size_t i) { return analytic ? analytic->bodies()[i] : mujoco->body(i); };
-  const auto set_tip = [&](const rigid::Tip& t) {
+  const auto set_tip = [&](const models::rigid::Tip& t) {
     if (analytic) analytic->set_tip(t);
     if (mujoco) mujoco->set_tip(t);
   };
-  rigid::Tip tip;
+  models::rigid::Tip tip;
   tip.x = {0, 0, kParkedTipZ};
   set_tip(tip);
 
@@ -138,9 +138,9 @@ int run(int argc, char** argv) {
   Writer<ForceFeedback> force(svc.participant());
   Writer<RigidBodyState> states(svc.participant());
   Writer<RigidDivergence> divergences(svc.participant());
-  std::vector<rigid::Proxy> proxies(items.size());
-  std::vector<device::Feel> feels(items.size());
-  std::vector<device::Feel> said(items.size());     // the last answer written per body
+  std::vector<models::rigid::Proxy> proxies(items.size());
+  std::vector<adapters::device::Feel> feels(items.size());
+  std::vector<adapters::device::Feel> said(items.size());     // the last answer written per body
   std::vector<std::uint64_t> said_seq(items.size());  // the state it answered
   const bool realtime = svc.options().mode == Mode::kRealtime;
   std::uint64_t unanswered = 0;  // body-states left to a free-space answer
@@ -157,17 +157,17 @@ int run(int argc, char** argv) {
   // huge soft-contact force).
   const auto answer = [&](const HapticState& s, const StepStamp& stamp) {
     const std::int64_t t0 = mono_ns();
-    const Eigen::Vector3d h = device::from_idl(s.position());
+    const Eigen::Vector3d h = adapters::device::from_idl(s.position());
     {
       std::lock_guard<PiMutex> l(scene);
       tip.x = h;
       double deepest = 0;
       for (std::size_t i = 0; i < items.size(); ++i) {
-        device::Feel& f = feels[i];
-        const rigid::Body b = body(i);
+        adapters::device::Feel& f = feels[i];
+        const models::rigid::Body b = body(i);
         const Eigen::Vector3d proxy = proxies[i].update(b, spec.tip_radius, h);
         if (!proxies[i].in_contact()) {
-          f = device::free_feel(h, free_clearance(b, spec.tip_radius, h));
+          f = adapters::device::free_feel(h, free_clearance(b, spec.tip_radius, h));
           continue;
         }
         const Eigen::Vector3d d = proxy - h;
@@ -176,27 +176,27 @@ int run(int argc, char** argv) {
         // The spring pulls the HIP toward the proxy; past max_force it is
         // clamped, and the model holds that force (no stiffness).
         const Eigen::Vector3d n = depth > 0 ? Eigen::Vector3d(d / depth) : Eigen::Vector3d::Zero();
-        const Eigen::Vector3d fk = rigid::proxy_force(proxy, h, stiffness, max_force);
+        const Eigen::Vector3d fk = models::rigid::proxy_force(proxy, h, stiffness, max_force);
         const bool clamped = stiffness * depth > max_force;
-        f = device::contact_feel(fk, h, n, clamped ? 0.0 : stiffness, depth, device::kContactModelRadius);
+        f = adapters::device::contact_feel(fk, h, n, clamped ? 0.0 : stiffness, depth, adapters::device::kContactModelRadius);
       }
-      tip.v = device::from_idl(s.velocity());
+      tip.v = adapters::device::from_idl(s.velocity());
       set_tip(tip);
     }
     state_mono = mono_ns();
     // In real time a body whose last answer still covers the HIP with free
-    // space is not answered (device::answer_covered): the device renders
+    // space is not answered (adapters::device::answer_covered): the device renders
     // it without waiting.
     bool touching = false;
     for (std::size_t i = 0; i < items.size(); ++i) {
       touching = touching || feels[i].in_contact;
       felt = std::max(felt, feels[i].force.norm());
-      if (realtime && !feels[i].in_contact && device::answer_covered(said[i], said_seq[i], h, s.seq(), dt)) {
+      if (realtime && !feels[i].in_contact && adapters::device::answer_covered(said[i], said_seq[i], h, s.seq(), dt)) {
         ++unanswered;
         continue;
       }
       said[i] = feels[i], said_seq[i] = s.seq();
-      ForceFeedback f = device::force_feedback(items[i].name, device, s.seq(), stamp, feels[i]);
+      ForceFeedback f = adapters::device::force_feedback(items[i].name, device, s.seq(), stamp, feels[i]);
       force.write(f);
     }
     contact_ticks += touching;
@@ -212,7 +212,7 @@ int run(int argc, char** argv) {
   bool have = false;
   double state_time = 0;  // s, lockstep: the simulated time `latest` arrived
   Window step_us(1 << 16);
-  std::vector<rigid::Body> now_bodies;  // the bodies after this tick's step (reused: no allocation per tick)
+  std::vector<models::rigid::Body> now_bodies;  // the bodies after this tick's step (reused: no allocation per tick)
   std::uint64_t hits = 0;                // tip impulses of the analytic model
   double worst[4] = {0, 0, 0, 0};        // max divergences
   const int status = svc.run([&](const Tick& tick) {
@@ -249,7 +249,7 @@ int run(int argc, char** argv) {
     const StepStamp stamp = svc.stamp(tick);
     for (std::size_t i = 0; i < items.size(); ++i) {
       Item& it = items[i];
-      const rigid::Body& b = now_bodies[i];
+      const models::rigid::Body& b = now_bodies[i];
       it.max_speed = std::max(it.max_speed, b.v.norm());
       // Awake bodies every tick; a sleeping one when it falls asleep, then
       // once a second.
@@ -260,14 +260,14 @@ int run(int argc, char** argv) {
       if (states.matched() == 0) {
         svc.skip_output();
       } else {
-        RigidBodyState st = rigid::body_state(it.name, stamp, b, primary);
+        RigidBodyState st = adapters::rigid::body_state(it.name, stamp, b, primary);
         states.write(st);
       }
       if (analytic && mujoco) {
         RigidDivergence d;
         {
           std::lock_guard<PiMutex> l(scene);
-          d = rigid::divergence(it.name, stamp, b, mujoco->body(i));
+          d = adapters::rigid::divergence(it.name, stamp, b, mujoco->body(i));
         }
         const double e[4] = {d.position_m(), d.orientation_rad(), d.velocity_m_s(), d.angular_velocity_rad_s()};
         for (int k = 0; k < 4; ++k) worst[k] = std::max(worst[k], e[k]);
@@ -280,8 +280,8 @@ int run(int argc, char** argv) {
   });
   if (haptic) haptic->stop();
   for (std::size_t i = 0; i < items.size(); ++i) {
-    const rigid::Body b = body(i);
-    std::printf("%s: %s at [%.4f, %.4f, %.4f] m, max speed %.3f m/s, %s\n", items[i].name.c_str(), rigid::name(b.shape),
+    const models::rigid::Body b = body(i);
+    std::printf("%s: %s at [%.4f, %.4f, %.4f] m, max speed %.3f m/s, %s\n", items[i].name.c_str(), models::rigid::name(b.shape),
                 b.x.x(), b.x.y(), b.x.z(), items[i].max_speed, b.sleeping ? "asleep" : "awake");
   }
   std::printf("%s: %llu body-states left to a free-space answer\n", svc.options().name.c_str(),

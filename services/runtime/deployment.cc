@@ -1,4 +1,4 @@
-#include "deployment.h"
+#include "services/runtime/deployment.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,11 +7,17 @@
 #include <regex>
 #include <set>
 
-#include "participant.h"
+#include "services/runtime/participant.h"
 
 namespace fs = std::filesystem;
 
-namespace hcosim::rt {
+namespace hcosim::services::runtime {
+
+// The located YAML reading of adapters/config.h.
+using adapters::config_number;
+using adapters::config_text;
+using adapters::join;
+using adapters::load_yaml;
 namespace {
 
 ServiceSpec parse_service(const std::string& file, const YAML::Node& node) {
@@ -350,4 +356,4 @@ void Params::allow_only(const std::vector<std::string>& allowed) const {
   if (node_ && node_.IsMap()) check_keys(file_, node_, allowed);
 }
 
-}  // namespace hcosim::rt
+}  // namespace hcosim::services::runtime

@@ -9,14 +9,14 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "config.h"
+#include "adapters/config.h"
 
-namespace hcosim::rt {
+namespace hcosim::services::runtime {
 
 // Configuration errors name FILE:LINE:COL (adapters/config.h).
-using hcosim::check_keys;
-using hcosim::config_error;
-using hcosim::ConfigError;
+using adapters::check_keys;
+using adapters::config_error;
+using adapters::ConfigError;
 
 enum class Mode { kRealtime, kLockstep };
 const char* to_string(Mode m);
@@ -137,4 +137,4 @@ class Params {
   YAML::Node node_;
 };
 
-}  // namespace hcosim::rt
+}  // namespace hcosim::services::runtime

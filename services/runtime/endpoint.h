@@ -19,9 +19,9 @@
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 
-#include "participant.h"
+#include "services/runtime/participant.h"
 
-namespace hcosim::rt {
+namespace hcosim::services::runtime {
 
 // A std::chrono duration as Fast DDS's Duration_t.
 inline eprosima::fastrtps::Duration_t to_dds(std::chrono::nanoseconds d) {
@@ -273,4 +273,4 @@ class Reader {
   eprosima::fastrtps::rtps::InstanceHandle_t current_writer_;
 };
 
-}  // namespace hcosim::rt
+}  // namespace hcosim::services::runtime

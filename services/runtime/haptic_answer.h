@@ -11,9 +11,9 @@
 #include <string>
 #include <thread>
 
-#include "service.h"
+#include "services/runtime/service.h"
 
-namespace hcosim::rt {
+namespace hcosim::services::runtime {
 
 // Calls answer(state) for every admissible HapticState of `device` as it
 // arrives, on Fast DDS's receiving thread (Reader::on_arrival), never
@@ -94,4 +94,4 @@ void take_state_of_step(Service& svc, Reader<HapticState>& in, Writer<ForceFeedb
   }
 }
 
-}  // namespace hcosim::rt
+}  // namespace hcosim::services::runtime

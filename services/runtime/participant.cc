@@ -1,4 +1,4 @@
-#include "participant.h"
+#include "services/runtime/participant.h"
 
 #include <cstdlib>
 #include <fstream>
@@ -7,7 +7,7 @@
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
-namespace hcosim::rt {
+namespace hcosim::services::runtime {
 
 using namespace eprosima::fastdds::dds;
 
@@ -75,4 +75,4 @@ Topic* Participant::make_topic(const char* topic, const char* type, TopicDataTyp
   return t;
 }
 
-}  // namespace hcosim::rt
+}  // namespace hcosim::services::runtime

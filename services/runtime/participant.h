@@ -11,10 +11,10 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 
-#include "security.h"
-#include "topics.h"
+#include "services/runtime/security.h"
+#include "services/runtime/topics.h"
 
-namespace hcosim::rt {
+namespace hcosim::services::runtime {
 
 // Highest domain id that fits Fast DDS's port formula (7400 + 250 * domain).
 inline constexpr int kMaxDomain = 232;
@@ -72,4 +72,4 @@ class Participant {
   bool lockstep_ = false;
 };
 
-}  // namespace hcosim::rt
+}  // namespace hcosim::services::runtime

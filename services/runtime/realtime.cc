@@ -1,4 +1,4 @@
-#include "realtime.h"
+#include "services/runtime/realtime.h"
 
 #include <cerrno>
 #include <cstring>
@@ -8,7 +8,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
-namespace hcosim::rt {
+namespace hcosim::services::runtime {
 namespace {
 
 #if defined(__SANITIZE_ADDRESS__)
@@ -99,4 +99,4 @@ PiMutex::~PiMutex() { pthread_mutex_destroy(&m_); }
 void PiMutex::lock() { pthread_mutex_lock(&m_); }
 void PiMutex::unlock() { pthread_mutex_unlock(&m_); }
 
-}  // namespace hcosim::rt
+}  // namespace hcosim::services::runtime

@@ -9,7 +9,7 @@
 #include <pthread.h>
 #include <string>
 
-namespace hcosim::rt {
+namespace hcosim::services::runtime {
 
 struct Scheduling {
   int priority = 0;  // SCHED_FIFO priority 1..99; 0: the normal scheduler
@@ -46,4 +46,4 @@ class PiMutex {
   pthread_mutex_t m_;
 };
 
-}  // namespace hcosim::rt
+}  // namespace hcosim::services::runtime

@@ -1,11 +1,11 @@
-#include "recording.h"
+#include "services/runtime/recording.h"
 
 #include <cstring>
 #include <stdexcept>
 
-#include "service.h"
+#include "services/runtime/service.h"
 
-namespace hcosim::rt {
+namespace hcosim::services::runtime {
 namespace {
 
 constexpr char kMagic[8] = {'H', 'C', 'O', 'S', 'R', 'E', 'C', '1'};
@@ -137,4 +137,4 @@ void Recorder::close() {
   writer_.close();
 }
 
-}  // namespace hcosim::rt
+}  // namespace hcosim::services::runtime

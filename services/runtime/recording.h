@@ -12,11 +12,11 @@
 #include <type_traits>
 #include <vector>
 
-#include "endpoint.h"
-#include "participant.h"
-#include "topics.h"
+#include "services/runtime/endpoint.h"
+#include "services/runtime/participant.h"
+#include "services/runtime/topics.h"
 
-namespace hcosim::rt {
+namespace hcosim::services::runtime {
 
 struct Record {
   std::string topic;
@@ -132,4 +132,4 @@ class Recorder {
   std::string losses_;         // losses() at close()
 };
 
-}  // namespace hcosim::rt
+}  // namespace hcosim::services::runtime

@@ -1,10 +1,10 @@
-#include "security.h"
+#include "services/runtime/security.h"
 
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
 
-namespace hcosim::rt {
+namespace hcosim::services::runtime {
 
 namespace fs = std::filesystem;
 
@@ -45,4 +45,4 @@ void add_security(const Security& s, eprosima::fastdds::dds::DomainParticipantQo
   p.emplace_back("dds.sec.crypto.plugin", "builtin.AES-GCM-GMAC");
 }
 
-}  // namespace hcosim::rt
+}  // namespace hcosim::services::runtime

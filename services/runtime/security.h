@@ -8,7 +8,7 @@
 
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 
-namespace hcosim::rt {
+namespace hcosim::services::runtime {
 
 // Which credentials a participant joins with. `dir` empty: security off.
 struct Security {
@@ -36,4 +36,4 @@ void check_credentials(const Security& s);
 // (checked first). Nothing when security is off.
 void add_security(const Security& s, eprosima::fastdds::dds::DomainParticipantQos& qos);
 
-}  // namespace hcosim::rt
+}  // namespace hcosim::services::runtime

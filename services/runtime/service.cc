@@ -1,4 +1,4 @@
-#include "service.h"
+#include "services/runtime/service.h"
 
 #include <algorithm>
 #include <atomic>
@@ -13,7 +13,7 @@
 #include <thread>
 #include <unistd.h>
 
-namespace hcosim::rt {
+namespace hcosim::services::runtime {
 namespace {
 
 std::atomic<bool> g_stop{false};
@@ -57,7 +57,7 @@ Params params_of(const Deployment& d, const std::string& name) {
     if (s.name == name) return Params(d.file, s.params);
   // The lockstep master is not an entry of the file.
   if (name == "clock") return Params(d.file, YAML::Node());
-  throw ConfigError(d.file + ": has no service named '" + name + "'");
+  throw adapters::ConfigError(d.file + ": has no service named '" + name + "'");
 }
 
 double value_of(const std::string& flag, const char* v) {
@@ -244,7 +244,7 @@ bool acknowledged(Wait&& wait) {
 }
 
 int Service::run_lockstep(const std::function<void(const Tick&)>& step) {
-  Reader<ClockTick> ticks(participant_, [](const ClockTick& t) { return validate(t); }, &rejections_);
+  Reader<ClockTick> ticks(participant_, [](const ClockTick& t) { return adapters::validate(t); }, &rejections_);
   Writer<StepDone> done(participant_);
   std::uint64_t expected = 0;
   bool finished = false;
@@ -314,4 +314,4 @@ int guarded_main(const char* program, const std::function<int()>& body) {
   }
 }
 
-}  // namespace hcosim::rt
+}  // namespace hcosim::services::runtime

@@ -9,14 +9,14 @@
 #include <optional>
 #include <string>
 
-#include "deployment.h"
-#include "endpoint.h"
-#include "participant.h"
-#include "realtime.h"
-#include "stats.h"
-#include "validate.h"
+#include "services/runtime/deployment.h"
+#include "services/runtime/endpoint.h"
+#include "services/runtime/participant.h"
+#include "services/runtime/realtime.h"
+#include "services/runtime/stats.h"
+#include "adapters/validate.h"
 
-namespace hcosim::rt {
+namespace hcosim::services::runtime {
 
 // Command-line options shared by every service executable.
 struct Options {
@@ -56,7 +56,7 @@ class Service {
   // `depth` > 0 keeps that many samples per instance (see Reader).
   template <class T>
   Reader<T> reader(const std::string& profile = TopicOf<T>::qos, int depth = 0) {
-    return Reader<T>(participant_, [](const T& s) { return validate(s); }, &rejections_, profile, depth);
+    return Reader<T>(participant_, [](const T& s) { return adapters::validate(s); }, &rejections_, profile, depth);
   }
 
   // The admissible samples of `r` for this step: in real time all that
@@ -150,4 +150,4 @@ int guarded_main(const char* program, const std::function<int()>& body);
 std::int64_t mono_ns();
 std::int64_t wall_ns();
 
-}  // namespace hcosim::rt
+}  // namespace hcosim::services::runtime

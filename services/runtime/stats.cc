@@ -1,10 +1,10 @@
-#include "stats.h"
+#include "services/runtime/stats.h"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-namespace hcosim::rt {
+namespace hcosim::services::runtime {
 
 Window::Window(std::size_t capacity) : values_(capacity) {
   if (capacity == 0) throw std::invalid_argument("Window capacity must be positive");
@@ -38,4 +38,4 @@ void Window::clear() {
   full_ = false;
 }
 
-}  // namespace hcosim::rt
+}  // namespace hcosim::services::runtime

@@ -4,7 +4,7 @@
 #include <cstddef>
 #include <vector>
 
-namespace hcosim::rt {
+namespace hcosim::services::runtime {
 
 // Keeps the latest `capacity` values (a ring) and answers percentiles of
 // them. Sized for one heartbeat period of a 1 kHz loop.
@@ -26,4 +26,4 @@ class Window {
   mutable std::vector<double> scratch_;
 };
 
-}  // namespace hcosim::rt
+}  // namespace hcosim::services::runtime

@@ -5,14 +5,14 @@
 #include <string_view>
 #include <tuple>
 
-#include "hcosim/idl/clockPubSubTypes.h"
-#include "hcosim/idl/hapticPubSubTypes.h"
-#include "hcosim/idl/meshPubSubTypes.h"
-#include "hcosim/idl/rigidPubSubTypes.h"
-#include "hcosim/idl/statusPubSubTypes.h"
-#include "hcosim/idl/visionPubSubTypes.h"
+#include "idl/clockPubSubTypes.h"
+#include "idl/hapticPubSubTypes.h"
+#include "idl/meshPubSubTypes.h"
+#include "idl/rigidPubSubTypes.h"
+#include "idl/statusPubSubTypes.h"
+#include "idl/visionPubSubTypes.h"
 
-namespace hcosim::rt {
+namespace hcosim::services::runtime {
 
 template <class T>
 struct TopicOf;
@@ -69,4 +69,4 @@ bool with_topic(std::string_view name, F&& f) {
   return found;
 }
 
-}  // namespace hcosim::rt
+}  // namespace hcosim::services::runtime

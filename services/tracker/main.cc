@@ -8,23 +8,23 @@
 #include <cstdio>
 #include <memory>
 
-#include "service.h"
-#include "vision/calibration.h"
-#include "vision/source.h"
-#include "vision/tracker.h"
-#include "vision/vision_idl.h"
+#include "services/runtime/service.h"
+#include "adapters/vision/calibration.h"
+#include "adapters/vision/source.h"
+#include "models/vision/tracker.h"
+#include "adapters/vision/vision_idl.h"
 
 using namespace hcosim;
-using namespace hcosim::rt;
+using namespace hcosim::services::runtime;
 
 namespace {
 
 // Frames of another size are named one by one up to this many, then counted.
 constexpr int kNamedSkips = 5;
 
-vision::TrackerParams tracker_params(const Params& p) {
-  vision::TrackerParams t;
-  vision::DetectorParams& d = t.detector;
+models::vision::TrackerParams tracker_params(const Params& p) {
+  models::vision::TrackerParams t;
+  models::vision::DetectorParams& d = t.detector;
   d.family = p.text("family", d.family, {"tag36h11", "tag25h9", "tag16h5", "tagStandard41h12"});
   d.quad_decimate = p.number("quad_decimate", d.quad_decimate, 1, 8);
   d.quad_sigma = p.number("quad_sigma", d.quad_sigma, -5, 5);
@@ -38,9 +38,9 @@ vision::TrackerParams tracker_params(const Params& p) {
   return t;
 }
 
-vision::Orbit orbit_params(const Params& p) {
+models::vision::Orbit orbit_params(const Params& p) {
   p.allow_only({"distance", "swing", "tilt", "base_tilt", "period", "upright", "sweep"});
-  vision::Orbit o;
+  models::vision::Orbit o;
   o.distance = p.number("distance", o.distance, 0.05, 100);
   o.swing = p.number("swing", o.swing, 0, 0.9 * o.distance);
   o.tilt_deg = p.number("tilt", o.tilt_deg, 0, 79);
@@ -59,30 +59,30 @@ int run(int argc, char** argv) {
                 "quad_decimate", "quad_sigma", "nthreads", "refine_edges", "decode_sharpening", "max_hamming",
                 "refine_corners", "refine_pose", "frames", "loop", "sheet", "orbit"});
   const std::string kind = p.text("source", "synthetic", {"synthetic", "folder", "video", "v4l2"});
-  const vision::TrackerParams tp = tracker_params(p);
+  const models::vision::TrackerParams tp = tracker_params(p);
   const bool publish_frames = p.on("frames", true), loop = p.on("loop", false);
   const int width = p.whole("width", 640, 16, 8192), height = p.whole("height", 480, 16, 8192);
   const std::string camera_file = p.path("camera");
 
   // The source, and the intrinsics its frames were taken with.
-  std::unique_ptr<vision::Source> source;
-  vision::SyntheticSource* synthetic = nullptr;
+  std::unique_ptr<adapters::vision::Source> source;
+  adapters::vision::SyntheticSource* synthetic = nullptr;
   std::vector<Eigen::Vector3d> scene;  // synthetic: where registration is measured, tag frame, m
-  vision::Intrinsics k;
+  models::vision::Intrinsics k;
   if (kind != "synthetic" && camera_file.empty())
     p.fail("camera", "source '" + kind + "' needs camera: an intrinsics file in OpenCV's calibration format");
-  if (!camera_file.empty()) k = vision::read_intrinsics(camera_file);
+  if (!camera_file.empty()) k = adapters::vision::read_intrinsics(camera_file);
   if (kind == "synthetic") {
-    vision::Marker m;
+    models::vision::Marker m;
     m.family = tp.detector.family;
     m.id = p.whole("tag_id", 0, 0, 1000000);
     m.tag_size = tp.tag_size;
     m.sheet = p.number("sheet", m.sheet, 1.25, 10);
-    const vision::Orbit path = orbit_params(p.map("orbit"));
-    if (camera_file.empty()) k = vision::synthetic_intrinsics(width, height);
-    k = vision::with_frame_size(k, width, height, camera_file);
-    auto s = std::make_unique<vision::SyntheticSource>(vision::SyntheticCamera(k, m),
-                                                       vision::condition(p.text("condition", "clean", {"clean", "noisy", "blurred"})),
+    const models::vision::Orbit path = orbit_params(p.map("orbit"));
+    if (camera_file.empty()) k = models::vision::synthetic_intrinsics(width, height);
+    k = adapters::vision::with_frame_size(k, width, height, camera_file);
+    auto s = std::make_unique<adapters::vision::SyntheticSource>(models::vision::SyntheticCamera(k, m),
+                                                       models::vision::condition(p.text("condition", "clean", {"clean", "noisy", "blurred"})),
                                                        svc.options().rate_hz, 0, path);
     // The sheet's corners on the table and half its edge above it: where
     // the scene's objects stand.
@@ -93,11 +93,11 @@ int run(int argc, char** argv) {
     synthetic = s.get();
     source = std::move(s);
   } else if (kind == "v4l2") {
-    source = vision::open_v4l2(p.string("device", "/dev/video0"), width, height, svc.options().rate_hz);
+    source = adapters::vision::open_v4l2(p.string("device", "/dev/video0"), width, height, svc.options().rate_hz);
   } else {
     const std::string path = p.path("path");
     if (path.empty()) p.fail("path", "source '" + kind + "' needs path: the " + (kind == "video" ? "video file" : "image folder"));
-    source = kind == "video" ? vision::open_video(path) : vision::open_folder(path);
+    source = kind == "video" ? adapters::vision::open_video(path) : adapters::vision::open_folder(path);
   }
   std::printf("%s: %s; %s tags of %.4g m\n", name.c_str(), source->describe().c_str(), tp.detector.family.c_str(),
               tp.tag_size);
@@ -105,13 +105,13 @@ int run(int argc, char** argv) {
 
   Writer<MarkerPose> poses(svc.participant());
   Writer<CameraFrame> frames(svc.participant());
-  std::unique_ptr<vision::Tracker> tracker;
+  std::unique_ptr<models::vision::Tracker> tracker;
   Window read_ms(1 << 16), track_ms(1 << 16), trans_pct(1 << 16), rot_deg(1 << 16), reg_px(1 << 16);
   std::uint64_t n_frames = 0, with_tag = 0, detections = 0, refused = 0, unreadable = 0, skipped = 0;
   bool ended = false;
   const int status = svc.run([&](const Tick& tick) {
     if (ended) return;
-    vision::Frame f;
+    adapters::vision::Frame f;
     const std::int64_t r0 = mono_ns();
     const bool got = source->next(f) || (loop && source->rewind() && source->next(f));
     read_ms.add((mono_ns() - r0) * 1e-6);
@@ -129,8 +129,8 @@ int run(int argc, char** argv) {
       return;
     }
     if (!tracker) {
-      k = vision::with_frame_size(k, f.image.cols, f.image.rows, camera_file);
-      tracker = std::make_unique<vision::Tracker>(tp, k);
+      k = adapters::vision::with_frame_size(k, f.image.cols, f.image.rows, camera_file);
+      tracker = std::make_unique<models::vision::Tracker>(tp, k);
     }
     if (f.image.cols != k.width || f.image.rows != k.height) {
       if (++skipped <= kNamedSkips)
@@ -139,16 +139,16 @@ int run(int argc, char** argv) {
       return;
     }
     const std::int64_t t0 = mono_ns();
-    const std::vector<vision::Observation> seen = tracker->track(f.image);
+    const std::vector<models::vision::Observation> seen = tracker->track(f.image);
     track_ms.add((mono_ns() - t0) * 1e-6);
     with_tag += !seen.empty();
     const StepStamp stamp = svc.stamp(tick);
-    for (const vision::Observation& o : seen) {
+    for (const models::vision::Observation& o : seen) {
       ++detections;
-      MarkerPose m = vision::marker_pose(name, tp.detector.family, stamp, f.index, tp.tag_size, o,
+      MarkerPose m = adapters::vision::marker_pose(name, tp.detector.family, stamp, f.index, tp.tag_size, o,
                                          (mono_ns() - f.capture_ns) * 1e-6);
       // A pose the subscribers would refuse (a degenerate fit) is not sent.
-      if (validate(m)) {
+      if (adapters::validate(m)) {
         ++refused;
         continue;
       }
@@ -156,8 +156,8 @@ int run(int argc, char** argv) {
         const Eigen::Isometry3d truth = synthetic->truth(f.index);
         trans_pct.add(100 * (o.pose.tag_in_camera.translation() - truth.translation()).norm() /
                       truth.translation().norm());
-        rot_deg.add(vision::angle_between(o.pose.tag_in_camera.linear(), truth.linear()) * 180 / M_PI);
-        reg_px.add(vision::registration_error_px(k, o.pose.tag_in_camera, truth, scene));
+        rot_deg.add(models::vision::angle_between(o.pose.tag_in_camera.linear(), truth.linear()) * 180 / M_PI);
+        reg_px.add(models::vision::registration_error_px(k, o.pose.tag_in_camera, truth, scene));
       }
       if (poses.matched() == 0)
         svc.skip_output();
@@ -168,7 +168,7 @@ int run(int argc, char** argv) {
     if (frames.matched() == 0) {
       svc.skip_output();
     } else {
-      CameraFrame c = vision::camera_frame(name, stamp, f.index, f.image, k);
+      CameraFrame c = adapters::vision::camera_frame(name, stamp, f.index, f.image, k);
       frames.write(c);
     }
   });

@@ -1,18 +1,18 @@
 // Recordings (runtime/recording.h) as `hcosim export` and `replay` read
 // them: every record's CDR bytes decoded as its topic's type, then
 // validated as a sample arriving over DDS would be.
-#include "fuzz_input.h"
-#include "recording.h"
-#include "validate.h"
+#include "tests/fuzz/fuzz_input.h"
+#include "services/runtime/recording.h"
+#include "adapters/validate.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string path = hcosim::fuzz::scratch(data, size, ".rec");
   return hcosim::fuzz::refuse_or_accept([&] {
-    hcosim::rt::RecordingReader in(path);
-    for (hcosim::rt::Record r; in.next(r);)
-      hcosim::rt::with_topic(r.topic, [&](auto tag) {
+    hcosim::services::runtime::RecordingReader in(path);
+    for (hcosim::services::runtime::Record r; in.next(r);)
+      hcosim::services::runtime::with_topic(r.topic, [&](auto tag) {
         using T = typename decltype(tag)::type;
-        hcosim::validate(hcosim::rt::from_cdr<T>(r.cdr));
+        hcosim::adapters::validate(hcosim::services::runtime::from_cdr<T>(r.cdr));
       });
   });
 }

@@ -4,18 +4,18 @@
 // crashing or allocating without bound.
 #include <vector>
 
-#include "fuzz_input.h"
-#include "recording.h"
-#include "validate.h"
+#include "tests/fuzz/fuzz_input.h"
+#include "services/runtime/recording.h"
+#include "adapters/validate.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 1) return 0;
   const std::vector<std::uint8_t> payload(data + 1, data + size);
   std::size_t k = 0;
   return hcosim::fuzz::refuse_or_accept([&] {
-    hcosim::rt::for_each_topic([&](auto tag) {
+    hcosim::services::runtime::for_each_topic([&](auto tag) {
       using T = typename decltype(tag)::type;
-      if (k++ == data[0] % std::tuple_size_v<hcosim::rt::AllTypes>) hcosim::validate(hcosim::rt::from_cdr<T>(payload));
+      if (k++ == data[0] % std::tuple_size_v<hcosim::services::runtime::AllTypes>) hcosim::adapters::validate(hcosim::services::runtime::from_cdr<T>(payload));
     });
   });
 }

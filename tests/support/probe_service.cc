@@ -19,10 +19,10 @@
 #include <deque>
 #include <thread>
 
-#include "service.h"
+#include "services/runtime/service.h"
 
 using namespace hcosim;
-using namespace hcosim::rt;
+using namespace hcosim::services::runtime;
 
 namespace {
 

@@ -12,15 +12,19 @@
 
 #include <opencv2/imgcodecs.hpp>
 
-#include "render/ar_idl.h"
-#include "render/plot.h"
-#include "render/view.h"
-#include "vision/source.h"
-#include "vision/synthetic.h"
-#include "vision/tracker.h"
-#include "vision/vision_idl.h"
+#include "adapters/render/ar_idl.h"
+#include "models/render/plot.h"
+#include "models/render/view.h"
+#include "adapters/vision/source.h"
+#include "models/vision/synthetic.h"
+#include "models/vision/tracker.h"
+#include "adapters/vision/vision_idl.h"
 
-namespace hcosim::render {
+namespace hcosim::adapters::render {
+
+// The render and vision models this adapter converts.
+using namespace models::render;
+using namespace models::vision;
 namespace {
 
 // Every non-degenerate triangle's normal points away from `centre`.
@@ -56,10 +60,10 @@ cv::Vec3b at(const cv::Mat& img, const Eigen::Vector2d& p) {
 }
 
 TEST(ArView, ObjectStylusAndForceLandWhereTheyProject) {
-  const vision::Intrinsics k = vision::synthetic_intrinsics(640, 480);
-  vision::Orbit o;
+  const models::vision::Intrinsics k = models::vision::synthetic_intrinsics(640, 480);
+  models::vision::Orbit o;
   o.upright = true, o.distance = 0.3, o.base_tilt_deg = 40, o.tilt_deg = 0, o.swing = 0;
-  const Eigen::Isometry3d pose = vision::orbit(0, o);
+  const Eigen::Isometry3d pose = models::vision::orbit(0, o);
   const cv::Scalar grey(90, 90, 90);
   cv::Mat img(480, 640, CV_8UC3, grey);
   Canvas canvas(img, k, pose);
@@ -95,55 +99,55 @@ TEST(ArView, ObjectStylusAndForceLandWhereTheyProject) {
 }
 
 TEST(ArView, UprightOrbitKeepsTheMarkersUpOnTheImagesUp) {
-  const vision::Intrinsics k = vision::synthetic_intrinsics(640, 480);
-  vision::Orbit o;
+  const models::vision::Intrinsics k = models::vision::synthetic_intrinsics(640, 480);
+  models::vision::Orbit o;
   o.upright = true, o.distance = 0.3, o.swing = 0.02, o.base_tilt_deg = 40, o.tilt_deg = 10, o.sweep_deg = 25;
   o.period = 40;
   for (double t : {0.0, 5.0, 10.0, 20.0}) {
-    const Eigen::Isometry3d p = vision::orbit(t, o);
-    const Eigen::Vector2d origin = vision::project(k, p, {0, 0, 0});
+    const Eigen::Isometry3d p = models::vision::orbit(t, o);
+    const Eigen::Vector2d origin = models::vision::project(k, p, {0, 0, 0});
     // Aimed at the marker's centre, at the orbit's distance.
     EXPECT_NEAR(origin.x(), k.cx, 1e-6);
     EXPECT_NEAR(origin.y(), k.cy, 1e-6);
     EXPECT_NEAR(p.translation().norm(), 0.3 + 0.02 * std::sin(2 * M_PI * t / 40), 1e-12);
-    EXPECT_LT(vision::project(k, p, {0, 0, 0.05}).y(), origin.y() - 50) << t;  // up is up
-    EXPECT_GT(vision::project(k, p, {0, -0.05, 0}).y(), vision::project(k, p, {0, 0.05, 0}).y());  // -y is near
+    EXPECT_LT(models::vision::project(k, p, {0, 0, 0.05}).y(), origin.y() - 50) << t;  // up is up
+    EXPECT_GT(models::vision::project(k, p, {0, -0.05, 0}).y(), models::vision::project(k, p, {0, 0.05, 0}).y());  // -y is near
   }
   o.sweep_deg = 180;
-  EXPECT_THROW(vision::check(o), std::invalid_argument);
+  EXPECT_THROW(models::vision::check(o), std::invalid_argument);
 }
 
 TEST(ArRegistration, ErrorIsInPixelsAndSmallAlongTheDefaultOrbit) {
-  const vision::Intrinsics k = vision::synthetic_intrinsics(640, 480);
-  const Eigen::Isometry3d truth = vision::facing(0.3);
+  const models::vision::Intrinsics k = models::vision::synthetic_intrinsics(640, 480);
+  const Eigen::Isometry3d truth = models::vision::facing(0.3);
   Eigen::Isometry3d moved = truth;
   moved.translation().x() += 0.001;  // 1 mm at 0.3 m, f = 600 px: 2 px
   const std::vector<Eigen::Vector3d> points{{0, 0, 0}, {0.05, 0.05, 0}};
-  EXPECT_EQ(vision::registration_error_px(k, truth, truth, points), 0);
-  EXPECT_NEAR(vision::registration_error_px(k, moved, truth, points), 2, 1e-9);
+  EXPECT_EQ(models::vision::registration_error_px(k, truth, truth, points), 0);
+  EXPECT_NEAR(models::vision::registration_error_px(k, moved, truth, points), 2, 1e-9);
 
   // The default deployment's camera and marker (deploy/default.yaml): the
   // sheet's corners and half its edge above them, 40 frames over 20 s.
-  vision::Marker m;
+  models::vision::Marker m;
   m.tag_size = 0.03, m.sheet = 8;
-  vision::Orbit o;
+  models::vision::Orbit o;
   o.upright = true, o.distance = 0.3, o.swing = 0.02, o.base_tilt_deg = 40, o.tilt_deg = 10, o.sweep_deg = 25;
   o.period = 40;
-  vision::SyntheticSource source(vision::SyntheticCamera(k, m), {}, 2, 40, o);
-  vision::TrackerParams tp;
+  adapters::vision::SyntheticSource source(models::vision::SyntheticCamera(k, m), {}, 2, 40, o);
+  models::vision::TrackerParams tp;
   tp.tag_size = m.tag_size;
-  vision::Tracker tracker(tp, k);
+  models::vision::Tracker tracker(tp, k);
   const double h = 0.5 * m.sheet * m.tag_size;
   std::vector<Eigen::Vector3d> scene;
   for (double z : {0.0, h})
     for (double x : {-h, h})
       for (double y : {-h, h}) scene.emplace_back(x, y, z);
   std::vector<double> errors;
-  vision::Frame f;
+  adapters::vision::Frame f;
   while (source.next(f)) {
     const auto seen = tracker.track(f.image);
     ASSERT_EQ(seen.size(), 1u) << "frame " << f.index;
-    errors.push_back(vision::registration_error_px(k, seen[0].pose.tag_in_camera, source.truth(f.index), scene));
+    errors.push_back(models::vision::registration_error_px(k, seen[0].pose.tag_in_camera, source.truth(f.index), scene));
   }
   std::sort(errors.begin(), errors.end());
   EXPECT_LT(errors[std::size_t(0.95 * double(errors.size() - 1))], 3.0);
@@ -193,17 +197,17 @@ TEST(ArTopics, MeshesBodiesAndFramesConvert) {
   EXPECT_THROW(body(b, 0.02), std::invalid_argument);
 
   // A grey frame comes back as BGR with its intrinsics.
-  const vision::Intrinsics k = vision::synthetic_intrinsics(64, 48);
+  const models::vision::Intrinsics k = models::vision::synthetic_intrinsics(64, 48);
   const cv::Mat grey(48, 64, CV_8UC1, cv::Scalar(77));
-  const CameraFrame f = vision::camera_frame("cam", {}, 3, grey, k);
-  const cv::Mat bgr = vision::bgr_image(f);
+  const CameraFrame f = adapters::vision::camera_frame("cam", {}, 3, grey, k);
+  const cv::Mat bgr = adapters::vision::bgr_image(f);
   EXPECT_EQ(bgr.type(), CV_8UC3);
   EXPECT_EQ(bgr.at<cv::Vec3b>(10, 10), cv::Vec3b(77, 77, 77));
-  EXPECT_EQ(vision::intrinsics(f).fx, k.fx);
+  EXPECT_EQ(adapters::vision::intrinsics(f).fx, k.fx);
   CameraFrame cut = f;
   cut.data().resize(10);
-  EXPECT_THROW(vision::bgr_image(cut), std::invalid_argument);
+  EXPECT_THROW(adapters::vision::bgr_image(cut), std::invalid_argument);
 }
 
 }  // namespace
-}  // namespace hcosim::render
+}  // namespace hcosim::adapters::render

@@ -12,12 +12,15 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
-#include "config.h"
-#include "vision/calibration.h"
-#include "vision/source.h"
-#include "vision/tracker.h"
+#include "adapters/config.h"
+#include "adapters/vision/calibration.h"
+#include "adapters/vision/source.h"
+#include "models/vision/tracker.h"
 
-namespace hcosim::vision {
+namespace hcosim::adapters::vision {
+
+// The vision models these sources and files carry.
+using namespace models::vision;
 namespace {
 
 namespace fs = std::filesystem;
@@ -227,4 +230,4 @@ TEST(Camera, TrackerFollowsTheSyntheticTagInGreyAndColour) {
 }
 
 }  // namespace
-}  // namespace hcosim::vision
+}  // namespace hcosim::adapters::vision

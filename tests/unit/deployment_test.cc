@@ -3,9 +3,9 @@
 
 #include <gtest/gtest.h>
 
-#include "deployment.h"
+#include "services/runtime/deployment.h"
 
-namespace hcosim::rt {
+namespace hcosim::services::runtime {
 namespace {
 
 std::string write_file(const std::string& name, const std::string& text) {
@@ -249,4 +249,4 @@ TEST(Deployment, AServicesErrorAboutASceneObjectNamesItsLine) {
 }
 
 }  // namespace
-}  // namespace hcosim::rt
+}  // namespace hcosim::services::runtime

@@ -5,17 +5,20 @@
 #include <filesystem>
 #include <fstream>
 
-#include "device/replay.h"
-#include "device/simulated_omni.h"
+#include "adapters/device/replay.h"
+#include "adapters/device/simulated_omni.h"
 
-namespace hcosim::device {
+namespace hcosim::adapters::device {
+
+// The haptic models this adapter converts.
+using namespace models::haptic;
 namespace {
 
-haptic::Script still(const Eigen::Vector3d& at, double seconds) {
-  haptic::Script s;
+models::haptic::Script still(const Eigen::Vector3d& at, double seconds) {
+  models::haptic::Script s;
   s.start = at;
-  haptic::Action hold;
-  hold.kind = haptic::Action::Kind::hold;
+  models::haptic::Action hold;
+  hold.kind = models::haptic::Action::Kind::hold;
   hold.duration = seconds;
   s.actions = {hold};
   return s;
@@ -39,9 +42,9 @@ TEST(HapticDevice, ForceIsClampedToTheMaximumAndSaturationCounted) {
 }
 
 TEST(HapticDevice, WorkspaceWallsStopTheStylus) {
-  haptic::Script s = still(Eigen::Vector3d::Zero(), 0);
-  haptic::Action far;
-  far.kind = haptic::Action::Kind::move_to;
+  models::haptic::Script s = still(Eigen::Vector3d::Zero(), 0);
+  models::haptic::Action far;
+  far.kind = models::haptic::Action::Kind::move_to;
   far.to = {0.5, -0.5, 0.5};  // far outside 160 x 120 x 70 mm
   far.speed = 0.5;
   s.actions = {far};
@@ -55,13 +58,13 @@ TEST(HapticDevice, WorkspaceWallsStopTheStylus) {
 }
 
 TEST(HapticDevice, PositionsComeInEncoderStepsAndVelocityFollows) {
-  haptic::Script s = still(Eigen::Vector3d::Zero(), 0);
-  haptic::Action move;
-  move.kind = haptic::Action::Kind::move_to;
+  models::haptic::Script s = still(Eigen::Vector3d::Zero(), 0);
+  models::haptic::Action move;
+  move.kind = models::haptic::Action::Kind::move_to;
   move.to = {0.02, 0, 0};
   move.speed = 0.05;
-  haptic::Action hold;
-  hold.kind = haptic::Action::Kind::hold;
+  models::haptic::Action hold;
+  hold.kind = models::haptic::Action::Kind::hold;
   hold.duration = 0.5;
   s.actions = {move, hold};
   SimulatedOmni omni({}, {}, s);
@@ -86,7 +89,7 @@ TEST(HapticDevice, PositionsComeInEncoderStepsAndVelocityFollows) {
 }
 
 TEST(HapticDevice, BadSpecsAreRefusedByName) {
-  haptic::OmniSpec spec;
+  models::haptic::OmniSpec spec;
   spec.max_force = 0;
   EXPECT_THROW(
       {
@@ -126,4 +129,4 @@ TEST(HapticDevice, ReplayPlaysTheRecordingBack) {
 }
 
 }  // namespace
-}  // namespace hcosim::device
+}  // namespace hcosim::adapters::device

@@ -3,10 +3,10 @@
 // model itself against the contact it linearizes.
 #include <gtest/gtest.h>
 
-#include "haptic/force_sum.h"
-#include "haptic/local_model.h"
+#include "models/haptic/force_sum.h"
+#include "models/haptic/local_model.h"
 
-namespace hcosim::haptic {
+namespace hcosim::models::haptic {
 namespace {
 
 LocalModel constant(const Eigen::Vector3d& f) {
@@ -114,4 +114,4 @@ TEST(HapticForceSum, CoversASourceByItsLatestModel) {
 }
 
 }  // namespace
-}  // namespace hcosim::haptic
+}  // namespace hcosim::models::haptic

@@ -1,9 +1,12 @@
 #include <gtest/gtest.h>
 
-#include "device/haptic_idl.h"
-#include "validate.h"
+#include "adapters/device/haptic_idl.h"
+#include "adapters/validate.h"
 
-namespace hcosim::device {
+namespace hcosim::adapters::device {
+
+// The haptic models this adapter converts.
+using namespace models::haptic;
 namespace {
 
 TEST(HapticIdl, ForceCarriesTheFeel) {
@@ -30,14 +33,14 @@ TEST(HapticIdl, AnswerCarriesItsLocalModel) {
   const Feel feel = contact_feel({0, 0, 1}, {0.01, 0, -0.002}, {0, 0, 1}, 500, 0.002, 0.003);
   const ForceFeedback f = force_feedback("wall", "omni", 3, StepStamp{}, feel);
   EXPECT_FALSE(validate(f));
-  const haptic::LocalModel m = local_model(f);
+  const models::haptic::LocalModel m = local_model(f);
   EXPECT_EQ(m.force, feel.force);
   EXPECT_EQ(m.position, feel.position);
   EXPECT_EQ(m.jacobian, feel.jacobian);
   EXPECT_EQ(m.jacobian(2, 2), -500);
   EXPECT_EQ(m.normal, feel.normal);
   EXPECT_EQ(m.radius, 0.003);
-  EXPECT_NEAR(haptic::evaluate(m, {0.01, 0, -0.003}).z(), 1.5, 1e-12);
+  EXPECT_NEAR(models::haptic::evaluate(m, {0.01, 0, -0.003}).z(), 1.5, 1e-12);
 }
 
 TEST(HapticIdl, VectorsRoundTrip) {
@@ -56,8 +59,8 @@ TEST(HapticIdl, FreeSpaceAnswersCoverTheHipForHalfTheHorizon) {
   EXPECT_EQ(f.position, hip);
   EXPECT_DOUBLE_EQ(f.radius, 0.004);
   EXPECT_DOUBLE_EQ(free_feel(hip, -0.1).radius, 0);
-  const haptic::LocalModel m = local_model(force_feedback("ball", "omni", 7, StepStamp{}, f));
-  EXPECT_TRUE(haptic::covers(m, hip + Eigen::Vector3d(0.003, 0, 0)));
+  const models::haptic::LocalModel m = local_model(force_feedback("ball", "omni", 7, StepStamp{}, f));
+  EXPECT_TRUE(models::haptic::covers(m, hip + Eigen::Vector3d(0.003, 0, 0)));
   const double dt = 0.001;
   EXPECT_TRUE(answer_covered(f, 7, hip + Eigen::Vector3d(0, 0.003, 0), 8, dt));
   EXPECT_FALSE(answer_covered(f, 7, hip + Eigen::Vector3d(0, 0.005, 0), 8, dt));  // out of the free ball
@@ -69,4 +72,4 @@ TEST(HapticIdl, FreeSpaceAnswersCoverTheHipForHalfTheHorizon) {
 }
 
 }  // namespace
-}  // namespace hcosim::device
+}  // namespace hcosim::adapters::device

@@ -5,10 +5,10 @@
 
 #include <gtest/gtest.h>
 
-#include "config.h"
-#include "device/script_yaml.h"
+#include "adapters/config.h"
+#include "adapters/device/script_yaml.h"
 
-namespace hcosim::haptic {
+namespace hcosim::models::haptic {
 namespace {
 
 using K = Action::Kind;
@@ -114,8 +114,8 @@ class ScriptFiles : public ::testing::Test {
   std::string error(const std::string& text) {
     const std::string path = write("bad.yaml", text);
     try {
-      device::load_script(path);
-    } catch (const ConfigError& e) {
+      adapters::device::load_script(path);
+    } catch (const adapters::ConfigError& e) {
       return e.what();
     }
     return "(no error)";
@@ -123,7 +123,7 @@ class ScriptFiles : public ::testing::Test {
 };
 
 TEST_F(ScriptFiles, ReadsEveryAction) {
-  const Script s = device::load_script(write("ok.yaml", R"(start: [0, 0, 0.02]
+  const Script s = adapters::device::load_script(write("ok.yaml", R"(start: [0, 0, 0.02]
 actions:
   - move_to: {to: [0, 0, 0.005], speed: 0.05}
   - press: {force: 1.5, direction: [0, 0, -2], speed: 0.01}
@@ -156,7 +156,7 @@ TEST_F(ScriptFiles, ErrorsNameTheFileAndLine) {
 }
 
 TEST_F(ScriptFiles, ButtonsAreHeldOnlyByTheirAction) {
-  const Script s = device::load_script(write("grab.yaml", R"(start: [0, 0, 0.02]
+  const Script s = adapters::device::load_script(write("grab.yaml", R"(start: [0, 0, 0.02]
 actions:
   - hold: {duration: 0.002}
   - stroke: {by: [0, 0, 0.001], speed: 0.5, buttons: 1}
@@ -173,4 +173,4 @@ actions:
 }
 
 }  // namespace
-}  // namespace hcosim::haptic
+}  // namespace hcosim::models::haptic

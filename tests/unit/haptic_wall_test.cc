@@ -4,10 +4,13 @@
 // maximum stiffness stable; without it the same wall buzzes.
 #include <gtest/gtest.h>
 
-#include "device/wall_rig.h"
-#include "haptic/passivity.h"
+#include "adapters/device/wall_rig.h"
+#include "models/haptic/passivity.h"
 
-namespace hcosim::device {
+namespace hcosim::adapters::device {
+
+// The haptic models this adapter converts.
+using namespace models::haptic;
 namespace {
 
 TEST(HapticWall, PressReachesTheForceBalanceDepth) {
@@ -52,7 +55,7 @@ TEST(HapticWall, WithoutPassivityControlTheDelayedWallBuzzes) {
 }
 
 TEST(HapticWall, ControllerDampsOnlyAnEnergyDeficit) {
-  haptic::PassivityController pc(1e-3, 20, 1e-4);
+  models::haptic::PassivityController pc(1e-3, 20, 1e-4);
   const Eigen::Vector3d v(0, 0, -0.1);  // moving into a wall that pushes back: it absorbs
   EXPECT_EQ(pc.filter({0, 0, 1}, v, Eigen::Vector3d::Zero()), Eigen::Vector3d(0, 0, 1));
   EXPECT_EQ(pc.damping(), 0);
@@ -62,8 +65,8 @@ TEST(HapticWall, ControllerDampsOnlyAnEnergyDeficit) {
   EXPECT_GT(pc.damping(), 0);
   EXPECT_GT(out.z(), -2);
   EXPECT_NEAR(pc.observed_energy() - out.dot(v) * 1e-3, 0, 1e-15);
-  EXPECT_THROW(haptic::PassivityController(0, 1, 1), std::invalid_argument);
+  EXPECT_THROW(models::haptic::PassivityController(0, 1, 1), std::invalid_argument);
 }
 
 }  // namespace
-}  // namespace hcosim::device
+}  // namespace hcosim::adapters::device

@@ -9,11 +9,11 @@
 
 #include <Eigen/Geometry>
 
-#include "deformable/elastic_surface.h"
-#include "deformable/hybrid.h"
-#include "deformable/surface.h"
+#include "models/deformable/elastic_surface.h"
+#include "models/deformable/hybrid.h"
+#include "models/deformable/surface.h"
 
-namespace hcosim::deformable {
+namespace hcosim::models::deformable {
 namespace {
 
 double signed_volume(const Eigen::Matrix3Xd& x, const std::vector<Eigen::Vector3i>& t) {
@@ -41,10 +41,10 @@ Touch press(Hybrid& h, int e, double depth) {
 
 TEST(HybridSurfaces, SeedMeshesAreClosedAndFaceOutward) {
   const HybridSpec s;
-  const massspring::TriangleMesh v = rounded_box(30, -Eigen::Vector3d::Ones(), Eigen::Vector3d::Ones(), 8);
+  const models::massspring::TriangleMesh v = rounded_box(30, -Eigen::Vector3d::Ones(), Eigen::Vector3d::Ones(), 8);
   EXPECT_EQ(v.vertices.cols(), 5402);  // 001 Fig 7
   EXPECT_EQ(v.triangles.size(), 10800u);
-  massspring::check_closed(v);
+  models::massspring::check_closed(v);
   EXPECT_GT(signed_volume(v.vertices, v.triangles), 0);
   const Eigen::Matrix3Xd n = vertex_normals(v.vertices, v.triangles);
   for (int i = 0; i < n.cols(); ++i) ASSERT_GT(n.col(i).dot(v.vertices.col(i)), 0) << "vertex " << i;
@@ -52,10 +52,10 @@ TEST(HybridSurfaces, SeedMeshesAreClosedAndFaceOutward) {
   const GridSurface g = grid_surface(10, 10, 10);
   EXPECT_EQ(g.nodes.size(), 488u);  // 1000 - 8^3
   EXPECT_EQ(g.triangles.size(), 972u);
-  massspring::TriangleMesh cage{Eigen::Matrix3Xd(3, g.nodes.size()), g.triangles};
+  models::massspring::TriangleMesh cage{Eigen::Matrix3Xd(3, g.nodes.size()), g.triangles};
   for (std::size_t i = 0; i < g.nodes.size(); ++i)
     cage.vertices.col(i) << g.nodes[i] % 10, (g.nodes[i] / 10) % 10, g.nodes[i] / 100;
-  massspring::check_closed(cage);
+  models::massspring::check_closed(cage);
   EXPECT_NEAR(signed_volume(cage.vertices, cage.triangles), 729, 1e-9);
 }
 
@@ -67,7 +67,7 @@ TEST(HybridVisualMap, SeedVisualMeshFollowsAffineCageMotionsForEveryMap) {
     HybridSpec s;
     s.map = m;
     const Hybrid h(s);
-    const massspring::Lattice& lat = h.behavior().lattice();
+    const models::massspring::Lattice& lat = h.behavior().lattice();
     Eigen::Matrix3d a;
     a << 1.1, 0.2, 0, -0.1, 0.9, 0.05, 0.02, 0, 1.05;
     const Eigen::Vector3d b(0.01, -0.02, 0.03);
@@ -254,4 +254,4 @@ TEST(DeformableReach, NoContactBeginsOutsideTheReach) {
 }
 
 }  // namespace
-}  // namespace hcosim::deformable
+}  // namespace hcosim::models::deformable

@@ -3,10 +3,10 @@
 
 #include <gtest/gtest.h>
 
-#include "idl_json.h"
-#include "json.h"
+#include "adapters/idl_json.h"
+#include "adapters/json.h"
 
-namespace hcosim {
+namespace hcosim::adapters {
 namespace {
 
 TEST(Json, NestsAndSeparates) {
@@ -58,4 +58,4 @@ TEST(IdlJson, CameraFrameSummarisesPixels) {
 }
 
 }  // namespace
-}  // namespace hcosim
+}  // namespace hcosim::adapters

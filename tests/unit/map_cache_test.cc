@@ -7,9 +7,12 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include "deformable/map_cache.h"
+#include "adapters/deformable/map_cache.h"
 
-namespace hcosim::deformable {
+namespace hcosim::adapters::deformable {
+
+// The deformable models this adapter converts.
+using namespace models::deformable;
 namespace {
 
 namespace fs = std::filesystem;
@@ -77,4 +80,4 @@ TEST_F(MapCache, OtherInputsMissAndADamagedFileIsComputedAgain) {
 }
 
 }  // namespace
-}  // namespace hcosim::deformable
+}  // namespace hcosim::adapters::deformable

@@ -8,9 +8,9 @@
 #include <Eigen/SparseCholesky>
 #include <gtest/gtest.h>
 
-#include "massspring/simulator.h"
+#include "models/massspring/simulator.h"
 
-namespace hcosim::massspring {
+namespace hcosim::models::massspring {
 namespace {
 
 using C = std::complex<double>;
@@ -328,4 +328,4 @@ TEST(MassspringAccuracy, ImplicitMatrixIsTheForceJacobian) {
 }
 
 }  // namespace
-}  // namespace hcosim::massspring
+}  // namespace hcosim::models::massspring

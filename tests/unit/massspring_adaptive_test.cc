@@ -5,9 +5,9 @@
 
 #include <gtest/gtest.h>
 
-#include "massspring/simulator.h"
+#include "models/massspring/simulator.h"
 
-namespace hcosim::massspring {
+namespace hcosim::models::massspring {
 namespace {
 
 struct Scene {
@@ -131,4 +131,4 @@ TEST(MassspringAdaptive, NextStateDependsOnlyOnStateAndLoads) {
 }
 
 }  // namespace
-}  // namespace hcosim::massspring
+}  // namespace hcosim::models::massspring

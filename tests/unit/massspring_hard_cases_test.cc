@@ -4,9 +4,9 @@
 
 #include <gtest/gtest.h>
 
-#include "massspring/simulator.h"
+#include "models/massspring/simulator.h"
 
-namespace hcosim::massspring {
+namespace hcosim::models::massspring {
 namespace {
 
 const Integrator kAll[] = {Integrator::symplectic_euler, Integrator::velocity_verlet, Integrator::rk4,
@@ -317,4 +317,4 @@ TEST(MassspringHardCases, DampingFromZeroToOverCritical) {
 }
 
 }  // namespace
-}  // namespace hcosim::massspring
+}  // namespace hcosim::models::massspring

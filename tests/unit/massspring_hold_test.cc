@@ -3,9 +3,9 @@
 // and the reaction they pass on equal to the springs' static force.
 #include <gtest/gtest.h>
 
-#include "massspring/simulator.h"
+#include "models/massspring/simulator.h"
 
-namespace hcosim::massspring {
+namespace hcosim::models::massspring {
 namespace {
 
 // anchor - free - held along x, springs k = 50 N/m, 1 cm long.
@@ -74,4 +74,4 @@ TEST(MassspringHold, RefusesMissingAndAnchoredMasses) {
 }
 
 }  // namespace
-}  // namespace hcosim::massspring
+}  // namespace hcosim::models::massspring

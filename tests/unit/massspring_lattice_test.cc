@@ -5,9 +5,9 @@
 
 #include <gtest/gtest.h>
 
-#include "massspring/mesh_lattice.h"
+#include "models/massspring/mesh_lattice.h"
 
-namespace hcosim::massspring {
+namespace hcosim::models::massspring {
 namespace {
 
 namespace fs = std::filesystem;
@@ -155,4 +155,4 @@ TEST_F(MeshFiles, ErrorsNameTheFileAndLine) {
 }
 
 }  // namespace
-}  // namespace hcosim::massspring
+}  // namespace hcosim::models::massspring

@@ -2,10 +2,10 @@
 // symplectic Euler to within the difference of the two Euler schemes.
 #include <gtest/gtest.h>
 
-#include "massspring/mujoco_lattice.h"
-#include "massspring/simulator.h"
+#include "models/massspring/mujoco_lattice.h"
+#include "models/massspring/simulator.h"
 
-namespace hcosim::massspring {
+namespace hcosim::models::massspring {
 namespace {
 
 TEST(MujocoLattice, FollowsTheSameTrajectory) {
@@ -39,4 +39,4 @@ TEST(MujocoLattice, RefusesWhatItCannotRun) {
 }
 
 }  // namespace
-}  // namespace hcosim::massspring
+}  // namespace hcosim::models::massspring

@@ -4,9 +4,9 @@
 // carried exactly.
 #include <gtest/gtest.h>
 
-#include "deformable/mvc.h"
+#include "models/deformable/mvc.h"
 
-namespace hcosim::deformable {
+namespace hcosim::models::deformable {
 namespace {
 
 // The unit cube, 12 triangles counter-clockwise seen from outside.
@@ -151,4 +151,4 @@ TEST(MeanValueCoordinates, BadInputIsRefused) {
 }
 
 }  // namespace
-}  // namespace hcosim::deformable
+}  // namespace hcosim::models::deformable

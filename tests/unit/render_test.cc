@@ -4,10 +4,10 @@
 // tilted face is darker than a facing one, and bad input is refused.
 #include <gtest/gtest.h>
 
-#include "render/canvas.h"
-#include "vision/synthetic.h"
+#include "models/render/canvas.h"
+#include "models/vision/synthetic.h"
 
-namespace hcosim::render {
+namespace hcosim::models::render {
 namespace {
 
 // A square of edge `size` (m) at height z on the marker, centred at (cx, cy).
@@ -21,8 +21,8 @@ void square(Canvas& canvas, double size, double z, const cv::Scalar& colour, dou
 cv::Vec3b at(const Canvas& c, const Eigen::Vector2d& p) { return c.image().at<cv::Vec3b>(int(std::lround(p.y())), int(std::lround(p.x()))); }
 
 TEST(Render, SquareOnTheMarkerCoversItsProjectedCorners) {
-  const vision::Intrinsics k = vision::synthetic_intrinsics(640, 480);
-  const Eigen::Isometry3d view = vision::facing(0.35);
+  const models::vision::Intrinsics k = models::vision::synthetic_intrinsics(640, 480);
+  const Eigen::Isometry3d view = models::vision::facing(0.35);
   Canvas canvas(cv::Mat(480, 640, CV_8UC3, cv::Scalar(0, 0, 0)), k, view);
   square(canvas, 0.04, 0, cv::Scalar(0, 0, 200));
   // 4 cm at 0.35 m and f = 600 px: 68.6 px a side, centred on the image.
@@ -41,9 +41,9 @@ TEST(Render, SquareOnTheMarkerCoversItsProjectedCorners) {
 }
 
 TEST(Render, TheNearerSurfaceShowsWhateverTheOrder) {
-  const vision::Intrinsics k = vision::synthetic_intrinsics(640, 480);
+  const models::vision::Intrinsics k = models::vision::synthetic_intrinsics(640, 480);
   for (const bool near_first : {false, true}) {
-    Canvas canvas(cv::Mat(480, 640, CV_8UC3, cv::Scalar(0, 0, 0)), k, vision::facing(0.35));
+    Canvas canvas(cv::Mat(480, 640, CV_8UC3, cv::Scalar(0, 0, 0)), k, models::vision::facing(0.35));
     // z points out of the marker toward the camera: z = 0.01 is nearer.
     if (near_first) square(canvas, 0.02, 0.01, cv::Scalar(255, 0, 0));
     square(canvas, 0.04, 0, cv::Scalar(0, 0, 255));
@@ -54,10 +54,10 @@ TEST(Render, TheNearerSurfaceShowsWhateverTheOrder) {
 }
 
 TEST(Render, TiltedFacesAreDarker) {
-  const vision::Intrinsics k = vision::synthetic_intrinsics(640, 480);
-  Eigen::Isometry3d tilted = vision::facing(0.35);
+  const models::vision::Intrinsics k = models::vision::synthetic_intrinsics(640, 480);
+  Eigen::Isometry3d tilted = models::vision::facing(0.35);
   tilted.linear() = tilted.linear() * Eigen::AngleAxisd(1.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
-  Canvas facing(cv::Mat(480, 640, CV_8UC3, cv::Scalar(0, 0, 0)), k, vision::facing(0.35));
+  Canvas facing(cv::Mat(480, 640, CV_8UC3, cv::Scalar(0, 0, 0)), k, models::vision::facing(0.35));
   Canvas turned(cv::Mat(480, 640, CV_8UC3, cv::Scalar(0, 0, 0)), k, tilted);
   square(facing, 0.04, 0, cv::Scalar(0, 200, 0));
   square(turned, 0.04, 0, cv::Scalar(0, 200, 0));
@@ -68,10 +68,10 @@ TEST(Render, TiltedFacesAreDarker) {
 }
 
 TEST(Render, BadInputIsRefused) {
-  const vision::Intrinsics k = vision::synthetic_intrinsics(640, 480);
-  EXPECT_THROW(Canvas(cv::Mat(480, 640, CV_8UC1), k, vision::facing(0.35)), std::invalid_argument);
-  EXPECT_THROW(Canvas(cv::Mat(240, 320, CV_8UC3), k, vision::facing(0.35)), std::invalid_argument);
-  Canvas canvas(cv::Mat(480, 640, CV_8UC3, cv::Scalar(0, 0, 0)), k, vision::facing(0.35));
+  const models::vision::Intrinsics k = models::vision::synthetic_intrinsics(640, 480);
+  EXPECT_THROW(Canvas(cv::Mat(480, 640, CV_8UC1), k, models::vision::facing(0.35)), std::invalid_argument);
+  EXPECT_THROW(Canvas(cv::Mat(240, 320, CV_8UC3), k, models::vision::facing(0.35)), std::invalid_argument);
+  Canvas canvas(cv::Mat(480, 640, CV_8UC3, cv::Scalar(0, 0, 0)), k, models::vision::facing(0.35));
   EXPECT_THROW(canvas.mesh(Eigen::Matrix3Xd::Zero(3, 3), {0, 1, 3}, cv::Scalar(1, 1, 1)), std::invalid_argument);
   EXPECT_THROW(canvas.mesh(Eigen::Matrix3Xd::Zero(3, 3), {0, 1}, cv::Scalar(1, 1, 1)), std::invalid_argument);
   // Behind the camera: nothing drawn, nothing thrown.
@@ -82,4 +82,4 @@ TEST(Render, BadInputIsRefused) {
 }
 
 }  // namespace
-}  // namespace hcosim::render
+}  // namespace hcosim::models::render

@@ -2,10 +2,13 @@
 
 #include <gtest/gtest.h>
 
-#include "rigid/rigid_idl.h"
-#include "validate.h"
+#include "adapters/rigid/rigid_idl.h"
+#include "adapters/validate.h"
 
-namespace hcosim::rigid {
+namespace hcosim::adapters::rigid {
+
+// The rigid models this adapter converts.
+using namespace models::rigid;
 namespace {
 
 Body spinning_cube() {
@@ -33,7 +36,7 @@ TEST(RigidIdl, StateCarriesPoseVelocitiesAndBackend) {
 
 TEST(RigidIdl, DivergenceIsTheNormOfEachDifference) {
   const Body a = spinning_cube();
-  Body m = a;
+  models::rigid::Body m = a;
   m.x.z() += 0.003;
   m.v.y() = -0.4;
   m.q = Eigen::Quaterniond(Eigen::AngleAxisd(0.3 + 0.5, Eigen::Vector3d::UnitZ()));
@@ -47,10 +50,10 @@ TEST(RigidIdl, DivergenceIsTheNormOfEachDifference) {
 
 TEST(RigidIdl, OppositeQuaternionsAreOneOrientation) {
   const Body a = spinning_cube();
-  Body m = a;
+  models::rigid::Body m = a;
   m.q.coeffs() = -a.q.coeffs();
   EXPECT_EQ(divergence("box", StepStamp(), a, m).orientation_rad(), 0);
 }
 
 }  // namespace
-}  // namespace hcosim::rigid
+}  // namespace hcosim::adapters::rigid

@@ -6,11 +6,11 @@
 
 #include <cmath>
 
-#include "rigid/crosscheck.h"
-#include "rigid/proxy.h"
-#include "rigid/world.h"
+#include "models/rigid/crosscheck.h"
+#include "models/rigid/proxy.h"
+#include "models/rigid/world.h"
 
-namespace hcosim::rigid {
+namespace hcosim::models::rigid {
 namespace {
 
 WorldSpec free_space(double e, double mu, double tip_radius) {
@@ -282,4 +282,4 @@ TEST(RigidMujoco, ScenariosAgreeWithinTheirTolerance) {
 }
 
 }  // namespace
-}  // namespace hcosim::rigid
+}  // namespace hcosim::models::rigid

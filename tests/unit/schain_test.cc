@@ -3,9 +3,9 @@
 // tick, cost follows the moved chains, and bad or extreme input is handled.
 #include <gtest/gtest.h>
 
-#include "deformable/schain.h"
+#include "models/deformable/schain.h"
 
-namespace hcosim::deformable {
+namespace hcosim::models::deformable {
 namespace {
 
 constexpr double kDt = 1e-3;
@@ -133,4 +133,4 @@ TEST(SChain, FarNanAndLongHeldContactsAreHandled) {
 }
 
 }  // namespace
-}  // namespace hcosim::deformable
+}  // namespace hcosim::models::deformable

@@ -7,10 +7,10 @@
 
 #include <gtest/gtest.h>
 
-#include "haptic_answer.h"
-#include "service.h"
+#include "services/runtime/haptic_answer.h"
+#include "services/runtime/service.h"
 
-namespace hcosim::rt {
+namespace hcosim::services::runtime {
 namespace {
 
 // Every in-process DDS test gets its own domain so ctest -j stays safe.
@@ -233,4 +233,4 @@ TEST(AnswerOnArrival, AnswersEveryStateOfItsDeviceAsItArrivesUntilStopped) {
 }
 
 }  // namespace
-}  // namespace hcosim::rt
+}  // namespace hcosim::services::runtime

@@ -2,9 +2,9 @@
 
 #include <gtest/gtest.h>
 
-#include "stats.h"
+#include "services/runtime/stats.h"
 
-namespace hcosim::rt {
+namespace hcosim::services::runtime {
 namespace {
 
 TEST(Window, NearestRankPercentiles) {
@@ -37,4 +37,4 @@ TEST(Window, EmptyAndClearedAreNaN) {
 }
 
 }  // namespace
-}  // namespace hcosim::rt
+}  // namespace hcosim::services::runtime

@@ -2,9 +2,9 @@
 
 #include <gtest/gtest.h>
 
-#include "topics.h"
+#include "services/runtime/topics.h"
 
-namespace hcosim::rt {
+namespace hcosim::services::runtime {
 namespace {
 
 // The type name we register must be the one fastddsgen wrote into the type
@@ -39,4 +39,4 @@ TEST(Topics, ProfilesFollowTheContract) {
 }
 
 }  // namespace
-}  // namespace hcosim::rt
+}  // namespace hcosim::services::runtime

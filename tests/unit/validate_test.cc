@@ -3,9 +3,9 @@
 
 #include <gtest/gtest.h>
 
-#include "validate.h"
+#include "adapters/validate.h"
 
-namespace hcosim {
+namespace hcosim::adapters {
 namespace {
 
 HapticState good_state() {
@@ -136,4 +136,4 @@ TEST(Validate, ClockTickNeedsAPositiveStep) {
 }
 
 }  // namespace
-}  // namespace hcosim
+}  // namespace hcosim::adapters

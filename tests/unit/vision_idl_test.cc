@@ -1,13 +1,16 @@
 #include <gtest/gtest.h>
 
-#include "validate.h"
-#include "vision/vision_idl.h"
+#include "adapters/validate.h"
+#include "adapters/vision/vision_idl.h"
 
-namespace hcosim::vision {
+namespace hcosim::adapters::vision {
+
+// The vision models this adapter converts.
+using namespace models::vision;
 namespace {
 
 TEST(VisionIdl, MarkerPoseCarriesTheTagsPoseAndQuality) {
-  Observation o;
+  models::vision::Observation o;
   o.detection.id = 7;
   o.detection.decision_margin = 88.5;
   o.pose.tag_in_camera = Eigen::Translation3d(0.01, -0.02, 0.4) * Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitY());
@@ -30,7 +33,7 @@ TEST(VisionIdl, CameraFrameCopiesPixelsOfARegionWithoutItsPadding) {
   for (int r = 0; r < big.rows; ++r)
     for (int c = 0; c < big.cols; ++c) big.at<cv::Vec3b>(r, c) = cv::Vec3b(std::uint8_t(r), std::uint8_t(c), 9);
   const cv::Mat roi = big(cv::Rect(5, 2, 8, 4));  // rows 60 bytes apart in memory, 24 bytes each
-  Intrinsics k = synthetic_intrinsics(640, 480);
+  models::vision::Intrinsics k = synthetic_intrinsics(640, 480);
   k.distortion[0] = -0.1;
   const CameraFrame f = camera_frame("cam", StepStamp(), 3, roi, k);
   EXPECT_EQ(f.encoding().to_string(), "bgr8");
@@ -49,4 +52,4 @@ TEST(VisionIdl, CameraFrameCopiesPixelsOfARegionWithoutItsPadding) {
 }
 
 }  // namespace
-}  // namespace hcosim::vision
+}  // namespace hcosim::adapters::vision

@@ -7,11 +7,11 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
-#include "vision/detector.h"
-#include "vision/pose.h"
-#include "vision/synthetic.h"
+#include "models/vision/detector.h"
+#include "models/vision/pose.h"
+#include "models/vision/synthetic.h"
 
-namespace hcosim::vision {
+namespace hcosim::models::vision {
 namespace {
 
 constexpr double kDeg = 3.14159265358979323846 / 180;
@@ -200,4 +200,4 @@ TEST(Vision, BadInputIsRefused) {
 }
 
 }  // namespace
-}  // namespace hcosim::vision
+}  // namespace hcosim::models::vision

@@ -15,12 +15,12 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "cli.h"
-#include "idl_json.h"
-#include "recording.h"
-#include "service.h"
+#include "services/cli/cli.h"
+#include "adapters/idl_json.h"
+#include "services/runtime/recording.h"
+#include "services/runtime/service.h"
 
-namespace hcosim::cli {
+namespace hcosim::services::cli {
 namespace {
 
 // The scalars of a JSON object as (path, text) pairs: "stamp.step",
@@ -38,12 +38,12 @@ void flatten(const YAML::Node& n, const std::string& path, std::vector<std::pair
 // A sample's instance key as Fast DDS hashes it (all zero on a topic
 // without key fields).
 using Key = std::array<std::uint8_t, 16>;
-Key key_of(const rt::Record& r) {
+Key key_of(const runtime::Record& r) {
   Key k{};
-  rt::with_topic(r.topic, [&](auto tag) {
+  runtime::with_topic(r.topic, [&](auto tag) {
     using T = typename decltype(tag)::type;
-    T s = rt::from_cdr<T>(r.cdr);
-    typename rt::TopicOf<T>::PubSub type;
+    T s = runtime::from_cdr<T>(r.cdr);
+    typename runtime::TopicOf<T>::PubSub type;
     eprosima::fastrtps::rtps::InstanceHandle_t h;
     if (type.m_isGetKeyDefined && type.getKey(&s, &h, false)) for (std::size_t i = 0; i < k.size(); ++i) k[i] = h.value[i];
   });
@@ -66,14 +66,14 @@ int export_recording(const std::vector<std::string>& argv) {
   const std::string topic = a.get("--topic", ""), format = a.get("--format", "jsonl");
   if (format != "jsonl" && format != "csv") throw std::invalid_argument("--format must be jsonl or csv, not '" + format + "'");
   bool known = false;
-  rt::with_topic(topic, [&](auto) { known = true; });
+  runtime::with_topic(topic, [&](auto) { known = true; });
   if (!known) throw std::invalid_argument("unknown topic '" + topic + "'");
 
-  rt::RecordingReader in(a.positional[0]);
-  std::vector<rt::Record> records;
+  runtime::RecordingReader in(a.positional[0]);
+  std::vector<runtime::Record> records;
   std::vector<Key> keys;
   std::uint64_t total = 0;
-  for (rt::Record r; in.next(r); ++total)
+  for (runtime::Record r; in.next(r); ++total)
     if (r.topic == topic) {
       keys.push_back(key_of(r));
       records.push_back(std::move(r));
@@ -90,11 +90,11 @@ int export_recording(const std::vector<std::string>& argv) {
   const std::regex wall(R"(,"wall_time_ns":-?[0-9]+)");
   std::vector<std::string> header;
   for (const std::size_t i : order) {
-    const rt::Record& r = records[i];
+    const runtime::Record& r = records[i];
     std::string line;
-    rt::with_topic(topic, [&](auto tag) {
+    runtime::with_topic(topic, [&](auto tag) {
       using T = typename decltype(tag)::type;
-      line = to_json(rt::from_cdr<T>(r.cdr));
+      line = adapters::to_json(runtime::from_cdr<T>(r.cdr));
     });
     if (!a.has("--wall")) line = std::regex_replace(line, wall, "");
     if (format == "jsonl") {
@@ -128,29 +128,29 @@ int replay(const std::vector<std::string>& argv) {
   if (clock != "sim" && clock != "receive") throw std::invalid_argument("--clock must be sim or receive");
   // The schedule: simulated time (a lockstep run plays back at its own
   // pace, not the pace its machine ran it at), or the receive times.
-  const auto at = [&](const rt::Record& r) { return clock == "sim" ? r.sim_time_ns : r.receive_ns; };
+  const auto at = [&](const runtime::Record& r) { return clock == "sim" ? r.sim_time_ns : r.receive_ns; };
   const double speed = a.number("--speed", 1);
   if (!(speed > 0 && speed <= 1000)) throw std::invalid_argument("--speed must be in (0, 1000]");
   const std::vector<std::string> topics = topics_of(a);
-  rt::RecordingReader in(a.positional[0]);
-  std::vector<rt::Record> records;
-  for (rt::Record r; in.next(r);)
+  runtime::RecordingReader in(a.positional[0]);
+  std::vector<runtime::Record> records;
+  for (runtime::Record r; in.next(r);)
     if (topics.empty() || std::find(topics.begin(), topics.end(), r.topic) != topics.end()) records.push_back(std::move(r));
   if (records.empty()) throw std::runtime_error(a.positional[0] + ": no sample of the chosen topics");
-  std::stable_sort(records.begin(), records.end(), [&](const rt::Record& x, const rt::Record& y) { return at(x) < at(y); });
+  std::stable_sort(records.begin(), records.end(), [&](const runtime::Record& x, const runtime::Record& y) { return at(x) < at(y); });
 
-  rt::install_stop_handlers();
-  rt::Participant p(domain_of(a), "hcosim_replay", rt::default_qos_file(), nullptr, false, security_of(a));
+  runtime::install_stop_handlers();
+  runtime::Participant p(domain_of(a), "hcosim_replay", runtime::default_qos_file(), nullptr, false, security_of(a));
   // One writer per topic, made before the first sample so readers can match.
-  std::map<std::string, std::function<void(const rt::Record&)>> write;
+  std::map<std::string, std::function<void(const runtime::Record&)>> write;
   std::map<std::string, std::function<int()>> matched;
-  for (const rt::Record& r : records) {
+  for (const runtime::Record& r : records) {
     if (write.count(r.topic)) continue;
-    rt::with_topic(r.topic, [&](auto tag) {
+    runtime::with_topic(r.topic, [&](auto tag) {
       using T = typename decltype(tag)::type;
-      auto w = std::make_shared<rt::Writer<T>>(p);
-      write[r.topic] = [w](const rt::Record& rec) {
-        T s = rt::from_cdr<T>(rec.cdr);
+      auto w = std::make_shared<runtime::Writer<T>>(p);
+      write[r.topic] = [w](const runtime::Record& rec) {
+        T s = runtime::from_cdr<T>(rec.cdr);
         w->write(s);
       };
       matched[r.topic] = [w] { return w->matched(); };
@@ -158,23 +158,23 @@ int replay(const std::vector<std::string>& argv) {
   }
   // A replay is for its subscribers: wait until every topic has one (a
   // service may still be building its model), up to --wait seconds.
-  const std::int64_t give_up = rt::mono_ns() + std::int64_t(wait_s * 1e9);
+  const std::int64_t give_up = runtime::mono_ns() + std::int64_t(wait_s * 1e9);
   std::string unread;
   do {
     unread.clear();
     for (const auto& [topic, count] : matched)
       if (count() == 0) unread += (unread.empty() ? "" : ", ") + topic;
     if (!unread.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  } while (!unread.empty() && rt::mono_ns() < give_up && !rt::stop_requested());
+  } while (!unread.empty() && runtime::mono_ns() < give_up && !runtime::stop_requested());
   if (!unread.empty()) std::cerr << "hcosim replay: no reader of " << unread << " after " << wait_s << " s; replaying anyway\n";
   std::cerr << "hcosim replay: " << records.size() << " samples over "
             << (at(records.back()) - at(records.front())) * 1e-9 / speed << " s" << std::endl;
-  const std::int64_t start = rt::mono_ns(), first = at(records.front());
+  const std::int64_t start = runtime::mono_ns(), first = at(records.front());
   std::uint64_t sent = 0;
-  for (const rt::Record& r : records) {
-    if (rt::stop_requested()) break;
+  for (const runtime::Record& r : records) {
+    if (runtime::stop_requested()) break;
     const std::int64_t due = start + std::int64_t(double(at(r) - first) / speed);
-    if (const std::int64_t wait = due - rt::mono_ns(); wait > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(wait));
+    if (const std::int64_t wait = due - runtime::mono_ns(); wait > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(wait));
     write[r.topic](r);
     ++sent;
   }
@@ -182,4 +182,4 @@ int replay(const std::vector<std::string>& argv) {
   return 0;
 }
 
-}  // namespace hcosim::cli
+}  // namespace hcosim::services::cli

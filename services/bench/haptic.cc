@@ -29,12 +29,13 @@
 #include <sstream>
 #include <thread>
 
-#include "bench.h"
-#include "deployment.h"
-#include "device/wall_rig.h"
-#include "service.h"
+#include "services/bench/bench.h"
+#include "services/bench/peer.h"
+#include "services/runtime/deployment.h"
+#include "adapters/device/wall_rig.h"
+#include "services/runtime/service.h"
 
-namespace hcosim::cli {
+namespace hcosim::services::bench {
 namespace {
 
 namespace fs = std::filesystem;
@@ -101,16 +102,16 @@ Row deployment(const Context& c, double seconds) {
   const pid_t up = start_up(file, dir / "out", log);
   // The bare pair runs once every service does (the run's duration counts
   // from then), and ends before it.
-  const std::int64_t deadline = rt::mono_ns() + std::int64_t(120e9);
+  const std::int64_t deadline = runtime::mono_ns() + std::int64_t(120e9);
   while (read_all(log).find("every service running") == std::string::npos) {
-    if (rt::mono_ns() > deadline || waitpid(up, nullptr, WNOHANG) == up) {
+    if (runtime::mono_ns() > deadline || waitpid(up, nullptr, WNOHANG) == up) {
       kill(up, SIGINT);
       waitpid(up, nullptr, 0);
       throw std::runtime_error("bench haptic: the default deployment did not start, see " + log.string());
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
-  const Rtt bare = bare_rtt(c.domain + 1, std::max(1.0, seconds - 4), rt::kHapticPriority);
+  const Rtt bare = bare_rtt(c.domain + 1, std::max(1.0, seconds - 4), runtime::kHapticPriority);
   int status = 0;
   waitpid(up, &status, 0);
   const std::string json = read_all(report);
@@ -162,17 +163,17 @@ std::vector<Row> haptic_rows(const Context& c) {
   progress("haptic wall rig: stiffness 250 to 1000 N/m, delay 0 to 5 ms");
   for (const double k : {250.0, 500.0, 1000.0})
     for (const double delay_ms : {0.0, 1.0, 2.0, 3.0, 5.0}) {
-      device::WallRig rig;
+      adapters::device::WallRig rig;
       rig.wall.stiffness = k;
       rig.delay_s = delay_ms * 1e-3;
-      const device::WallRun run = device::run_wall(rig);
+      const adapters::device::WallRun run = adapters::device::run_wall(rig);
       rows.push_back({"wall",
                       {{"delay_ms", delay_ms}, {"stiffness_n_per_m", k}},
                       {{"max_force_n", run.max_force_n},
                        {"energy_out_j", run.max_energy_out_j},
                        {"stable", run.stable ? 1.0 : 0.0},
-                       {"depth_error", run.depth_m / device::balance_depth(rig) - 1},
-                       {"overshoot", run.max_force_n / (k * device::balance_depth(rig)) - 1}}});
+                       {"depth_error", run.depth_m / adapters::device::balance_depth(rig) - 1},
+                       {"overshoot", run.max_force_n / (k * adapters::device::balance_depth(rig)) - 1}}});
     }
   return rows;
 }
@@ -222,4 +223,4 @@ Suite haptic_suite() {
   return s;
 }
 
-}  // namespace hcosim::cli
+}  // namespace hcosim::services::bench

@@ -7,10 +7,10 @@
 
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
 
-#include "cli.h"
-#include "service.h"
+#include "services/cli/cli.h"
+#include "services/runtime/service.h"
 
-namespace hcosim::cli {
+namespace hcosim::services::cli {
 namespace {
 
 using namespace eprosima::fastdds::dds;
@@ -63,7 +63,7 @@ int topics(const std::vector<std::string>& argv) {
   if (wait <= 0 || wait > 600) throw std::invalid_argument("--wait must be in (0, 600] s");
   Discovery discovery;
   {
-    rt::Participant p(domain_of(a), "hcosim_topics", rt::default_qos_file(), &discovery, false, security_of(a));
+    runtime::Participant p(domain_of(a), "hcosim_topics", runtime::default_qos_file(), &discovery, false, security_of(a));
     std::this_thread::sleep_for(std::chrono::duration<double>(wait));
     p.dds()->set_listener(nullptr);
   }
@@ -75,4 +75,4 @@ int topics(const std::vector<std::string>& argv) {
   return 0;
 }
 
-}  // namespace hcosim::cli
+}  // namespace hcosim::services::cli

@@ -23,20 +23,20 @@
 #include <sstream>
 #include <thread>
 
-#include "cli.h"
-#include "recording.h"
-#include "service.h"
+#include "services/cli/cli.h"
+#include "services/runtime/recording.h"
+#include "services/runtime/service.h"
 
 namespace fs = std::filesystem;
 
-namespace hcosim::cli {
+namespace hcosim::services::cli {
 namespace {
 
 volatile std::sig_atomic_t g_signal = 0;
 void on_signal(int s) { g_signal = s; }
 
 constexpr double kStopGraceS = 2.0;
-// Participant ids of restarted services: from here to rt::kMaxParticipantId,
+// Participant ids of restarted services: from here to runtime::kMaxParticipantId,
 // above those Fast DDS gives the first participants of a host (0, 1, ...),
 // taken in turn and again from the start when used up.
 constexpr int kRestartIds = 60;
@@ -47,7 +47,7 @@ struct Child {
   std::string name;
   std::string exe;
   std::vector<std::string> args;
-  rt::OnFailure policy = rt::OnFailure::kStopAll;
+  runtime::OnFailure policy = runtime::OnFailure::kStopAll;
   pid_t pid = -1;
   int status = 0;  // waitpid status once reaped
   bool reaped = false;
@@ -76,7 +76,7 @@ std::string find_service(const std::string& kind, const std::string& file, int l
       if (n.rfind("hcosim_", 0) == 0 && n != "hcosim_clock") known += (known.empty() ? "" : ", ") + n.substr(7);
     }
   }
-  throw rt::ConfigError(file + ":" + std::to_string(line) + ":1: no service of kind '" + kind + "' (known kinds: " +
+  throw adapters::ConfigError(file + ":" + std::to_string(line) + ":1: no service of kind '" + kind + "' (known kinds: " +
                         (known.empty() ? "none" : known) + ")");
 }
 
@@ -164,8 +164,8 @@ bool all_reaped(const std::vector<Child>& children) {
 bool stop_all(std::vector<Child>& children) {
   for (auto& c : children)
     if (!c.reaped) kill(c.pid, SIGTERM);
-  const std::int64_t deadline = rt::mono_ns() + std::int64_t(kStopGraceS * 1e9);
-  while (!all_reaped(children) && rt::mono_ns() < deadline) {
+  const std::int64_t deadline = runtime::mono_ns() + std::int64_t(kStopGraceS * 1e9);
+  while (!all_reaped(children) && runtime::mono_ns() < deadline) {
     reap(children);
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
@@ -188,8 +188,8 @@ bool stop_all(std::vector<Child>& children) {
 // line every kLogProgressS. Also which services have left "starting".
 class Progress {
  public:
-  explicit Progress(rt::Participant& p)
-      : status_(p, [](const ServiceStatus& s) { return validate(s); }), tty_(isatty(STDOUT_FILENO)) {}
+  explicit Progress(runtime::Participant& p)
+      : status_(p, [](const ServiceStatus& s) { return adapters::validate(s); }), tty_(isatty(STDOUT_FILENO)) {}
 
   void update() {
     status_.take([&](const ServiceStatus& s) {
@@ -209,7 +209,7 @@ class Progress {
         std::printf("  %-16s scheduling: %s\n", s.service().c_str(), s.scheduling().c_str());
       }
     });
-    const std::int64_t now = rt::mono_ns();
+    const std::int64_t now = runtime::mono_ns();
     if (now - printed_ns_ < (tty_ ? 500'000'000 : std::int64_t(kLogProgressS * 1e9)) || sim_ns_ == 0) return;
     printed_ns_ = now;
     std::string line = text("sim %.1f s, real-time factor %.2f", sim_ns_ * 1e-9, factor_);
@@ -237,7 +237,7 @@ class Progress {
     std::snprintf(buf, sizeof buf, f, a...);
     return buf;
   }
-  rt::Reader<ServiceStatus> status_;
+  runtime::Reader<ServiceStatus> status_;
   std::map<std::string, ServiceStatus> latest_;
   std::set<std::string> ran_;
   std::int64_t sim_ns_ = 0, printed_ns_ = 0;  // the furthest service's simulated time
@@ -278,7 +278,7 @@ void clean_shared_memory(int domain) {
     std::cerr << "hcosim up: 'fastdds shm clean' failed; stale segments may remain in /dev/shm\n";
   const fs::path shm = "/dev/shm";
   const int first = 7400 + 250 * domain + 10;
-  for (int port = first; port < first + 2 * (rt::kMaxParticipantId + 1); ++port) {
+  for (int port = first; port < first + 2 * (runtime::kMaxParticipantId + 1); ++port) {
     const std::string name = "fastrtps_port" + std::to_string(port);
     std::error_code ec;
     if (!fs::exists(shm / name, ec) || fs::exists(shm / (name + "_el"), ec) || fs::exists(shm / (name + "_sl"), ec))
@@ -294,11 +294,11 @@ int up(const std::vector<std::string>& argv) {
   const Args a = parse(argv, {"--duration", "--mode", "--out", "--record"}, {});
   const std::string record = a.get("--record", "");
   if (a.positional.size() != 1) throw std::invalid_argument("up needs exactly one deployment FILE");
-  rt::Deployment d = rt::load_deployment(a.positional[0]);
-  if (a.has("--mode")) d.mode = rt::parse_mode(a.get("--mode", ""));
+  runtime::Deployment d = runtime::load_deployment(a.positional[0]);
+  if (a.has("--mode")) d.mode = runtime::parse_mode(a.get("--mode", ""));
   d.duration_s = a.number("--duration", d.duration_s);
   if (d.duration_s < 0) throw std::invalid_argument("--duration must not be negative");
-  if (d.mode == rt::Mode::kLockstep && d.duration_s == 0)
+  if (d.mode == runtime::Mode::kLockstep && d.duration_s == 0)
     throw std::invalid_argument("lockstep needs a duration (in the file or --duration)");
   const fs::path out = a.get("--out", "out");
   const fs::path logs = out / "logs";
@@ -312,10 +312,10 @@ int up(const std::vector<std::string>& argv) {
     r << rate;
     s << d.step_s;
     return std::vector<std::string>{"--name", name, "--domain", std::to_string(d.domain), "--mode",
-                                    rt::to_string(d.mode), "--rate", r.str(), "--step", s.str(),
+                                    runtime::to_string(d.mode), "--rate", r.str(), "--step", s.str(),
                                     "--deployment", file, "--out", fs::absolute(out).string()};
   };
-  const auto scheduling = [](const rt::ServiceSpec& s) {
+  const auto scheduling = [](const runtime::ServiceSpec& s) {
     return std::vector<std::string>{"--priority", std::to_string(s.priority), "--cpu", std::to_string(s.cpu)};
   };
   std::vector<Child> children;
@@ -324,7 +324,7 @@ int up(const std::vector<std::string>& argv) {
       std::printf("hcosim up: not starting %s: %s\n", s.name.c_str(), s.unneeded.c_str());
       continue;
     }
-    rt::check_policy(s, d.mode);  // --mode may have changed the file's mode
+    runtime::check_policy(s, d.mode);  // --mode may have changed the file's mode
     Child c{s.name, find_service(s.kind, d.file, s.line), common(s.name, s.rate_hz), s.on_failure};
     const auto sch = scheduling(s);
     c.args.insert(c.args.end(), sch.begin(), sch.end());
@@ -332,10 +332,10 @@ int up(const std::vector<std::string>& argv) {
   }
   // The clock alone would step nothing: surely a mistake in the file.
   if (children.empty())
-    throw rt::ConfigError(d.services_where + ": nothing to run: " +
+    throw adapters::ConfigError(d.services_where + ": nothing to run: " +
                           (d.services.empty() ? std::string("the deployment lists no services")
                                               : "the scene needs none of its services (above)"));
-  if (d.mode == rt::Mode::kLockstep) {
+  if (d.mode == runtime::Mode::kLockstep) {
     Child clock{"clock", find_service("clock", d.file, 1), common("clock", 1.0 / d.step_s)};
     std::ostringstream dur;
     dur.precision(17);
@@ -345,12 +345,12 @@ int up(const std::vector<std::string>& argv) {
   }
 
   // Every process's credentials, before any starts (docs/security.md).
-  const rt::Security security{d.security, rt::kToolIdentity};
+  const runtime::Security security{d.security, runtime::kToolIdentity};
   if (security.on()) try {
-      rt::check_credentials(security);
-      for (const auto& c : children) rt::check_credentials({d.security, c.name});
+      runtime::check_credentials(security);
+      for (const auto& c : children) runtime::check_credentials({d.security, c.name});
     } catch (const std::runtime_error& e) {
-      throw rt::ConfigError(d.security_where + ": " + e.what());
+      throw adapters::ConfigError(d.security_where + ": " + e.what());
     }
 
   struct sigaction sa {};
@@ -358,7 +358,7 @@ int up(const std::vector<std::string>& argv) {
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
 
-  std::printf("hcosim up: %s, domain %d, %s, %zu service(s)%s%s\n", d.file.c_str(), d.domain, rt::to_string(d.mode),
+  std::printf("hcosim up: %s, domain %d, %s, %zu service(s)%s%s\n", d.file.c_str(), d.domain, runtime::to_string(d.mode),
               children.size(), d.duration_s > 0 ? "" : ", until Ctrl-C",
               security.on() ? (", DDS Security on (" + d.security + ")").c_str() : "");
   // up's participant exists before the services, so that the recorder's
@@ -367,13 +367,13 @@ int up(const std::vector<std::string>& argv) {
   // Owned, so that it is gone before the shared-memory clean at the end:
   // a dead process's ports that it holds open would stay behind.
   auto participant =
-      std::make_unique<rt::Participant>(d.domain, "hcosim_up", rt::default_qos_file(), &joined, false, security);
+      std::make_unique<runtime::Participant>(d.domain, "hcosim_up", runtime::default_qos_file(), &joined, false, security);
   // In lockstep the recorder's readers are reliable: the services wait for
   // them too, so a recording holds every sample.
-  participant->set_lockstep(d.mode == rt::Mode::kLockstep);
+  participant->set_lockstep(d.mode == runtime::Mode::kLockstep);
   auto progress = std::make_unique<Progress>(*participant);
-  std::unique_ptr<rt::Recorder> recorder;
-  if (!record.empty()) recorder = std::make_unique<rt::Recorder>(*participant, record, std::vector<std::string>{});
+  std::unique_ptr<runtime::Recorder> recorder;
+  if (!record.empty()) recorder = std::make_unique<runtime::Recorder>(*participant, record, std::vector<std::string>{});
   for (auto& c : children) {
     c.pid = spawn(c, logs / (c.name + ".log"));
     std::printf("  started %-16s pid %-7d %s\n", c.name.c_str(), int(c.pid), c.exe.c_str());
@@ -383,11 +383,11 @@ int up(const std::vector<std::string>& argv) {
   // Watch: a child that exits ends the run (lockstep: the clock exiting 0
   // is the normal end) unless its on_failure policy says otherwise; so do
   // the duration and Ctrl-C.
-  const std::int64_t start = rt::mono_ns();
+  const std::int64_t start = runtime::mono_ns();
   // A real-time run's duration counts from when every service runs its
   // loop (one may first build its model for seconds), or from kStartWaitS
   // if one never says so; lockstep runs end with the clock.
-  const bool timed = d.mode == rt::Mode::kRealtime && d.duration_s > 0;
+  const bool timed = d.mode == runtime::Mode::kRealtime && d.duration_s > 0;
   std::int64_t end = INT64_MAX;
   std::string reason;
   int code = 0;
@@ -403,7 +403,7 @@ int up(const std::vector<std::string>& argv) {
   while (reason.empty()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     progress->update();
-    const double waited = (rt::mono_ns() - start) * 1e-9;
+    const double waited = (runtime::mono_ns() - start) * 1e-9;
     if (!all_joined) {
       std::string missing;
       for (const auto& c : children)
@@ -426,7 +426,7 @@ int up(const std::vector<std::string>& argv) {
         if (!progress->running(c.name)) starting += (starting.empty() ? "" : ", ") + c.name;
       if (starting.empty() || waited > kStartWaitS) {
         all_running = true;
-        if (timed) end = rt::mono_ns() + std::int64_t(d.duration_s * 1e9);
+        if (timed) end = runtime::mono_ns() + std::int64_t(d.duration_s * 1e9);
         progress->finish();
         if (starting.empty())
           std::printf("hcosim up: every service running after %.2f s\n", waited);
@@ -443,12 +443,12 @@ int up(const std::vector<std::string>& argv) {
     }
     if (cleaner > 0 && waitpid(cleaner, nullptr, WNOHANG) == cleaner) cleaner = -1;
     if (g_signal) reason = std::string("stopped by ") + (g_signal == SIGINT ? "SIGINT" : "SIGTERM");
-    else if (rt::mono_ns() >= end) reason = "duration reached";
+    else if (runtime::mono_ns() >= end) reason = "duration reached";
     else
       for (Child* c : reap(children)) {
         if (!reason.empty()) break;
         // Exit status 2 is a refused configuration or argument
-        // (rt::guarded_main); before the loop ever ran, a restart would be
+        // (runtime::guarded_main); before the loop ever ran, a restart would be
         // refused the same way.
         const bool refused = WIFEXITED(c->status) && WEXITSTATUS(c->status) == 2 && !progress->running(c->name);
         // A process killed from outside (SIGKILL, SIGTERM) wrote no last word.
@@ -457,12 +457,12 @@ int up(const std::vector<std::string>& argv) {
         if (failed(*c) && !killed)
           if (const std::string l = last_line(logs / (c->name + ".log")); !l.empty())
             last_words += "  " + c->name + ": " + l + "\n";
-        if (failed(*c) && c->policy == rt::OnFailure::kRestart && c->restarts < rt::kMaxRestarts && !refused) {
+        if (failed(*c) && c->policy == runtime::OnFailure::kRestart && c->restarts < runtime::kMaxRestarts && !refused) {
           ++c->restarts;
           crashed = crashed || WIFSIGNALED(c->status);
           progress->finish();
           std::printf("hcosim up: service '%s' ended (%s); restarting it (%d of %d)\n%s", c->name.c_str(),
-                      describe(c->status).c_str(), c->restarts, rt::kMaxRestarts, last_words.c_str());
+                      describe(c->status).c_str(), c->restarts, runtime::kMaxRestarts, last_words.c_str());
           last_words.clear();
           std::fflush(stdout);
           const fs::path log = logs / (c->name + ".log");
@@ -474,14 +474,14 @@ int up(const std::vector<std::string>& argv) {
           // would reuse its shared-memory ports, which the others keep
           // pushing to until Fast DDS finds them dead (seconds).
           c->env = "HCOSIM_PARTICIPANT_ID=" +
-                   std::to_string(kRestartIds + next_id++ % (rt::kMaxParticipantId + 1 - kRestartIds));
+                   std::to_string(kRestartIds + next_id++ % (runtime::kMaxParticipantId + 1 - kRestartIds));
           c->pid = spawn(*c, log, true);
           c->reaped = false;
           // The killed process's segments go now, not at the end of a run
           // that may last hours; in the background, so the recorder keeps
           // polling (the tool removes only segments nobody holds).
           if (WIFSIGNALED(c->status) && cleaner < 0) cleaner = spawn(shm_clean, logs / "shm_clean.log", true);
-        } else if (failed(*c) && c->policy == rt::OnFailure::kIgnore) {
+        } else if (failed(*c) && c->policy == runtime::OnFailure::kIgnore) {
           progress->finish();
           std::printf("hcosim up: service '%s' ended (%s); on_failure: ignore, the others run on\n%s",
                       c->name.c_str(), describe(c->status).c_str(), last_words.c_str());
@@ -490,18 +490,18 @@ int up(const std::vector<std::string>& argv) {
           code = 1;
           if (all_reaped(children)) reason = "every service ended";
         } else if (failed(*c)) {
-          const bool unrestarted = refused && c->policy == rt::OnFailure::kRestart;
+          const bool unrestarted = refused && c->policy == runtime::OnFailure::kRestart;
           reason = "service '" + c->name + "' ended (" + describe(c->status) +
                    (unrestarted ? " before its loop ran; a refused configuration is not restarted" : "") + ")" +
                    (c->restarts ? " after " + std::to_string(c->restarts) + " restarts" : "");
           code = 1;
-        } else if (d.mode == rt::Mode::kRealtime) {
+        } else if (d.mode == runtime::Mode::kRealtime) {
           reason = "service '" + c->name + "' finished";
         } else if (c->name == "clock") {
           // Followers exit by themselves after the last tick.
           reason = "lockstep run complete";
-          const std::int64_t deadline = rt::mono_ns() + std::int64_t(kStopGraceS * 1e9);
-          while (!all_reaped(children) && rt::mono_ns() < deadline) {
+          const std::int64_t deadline = runtime::mono_ns() + std::int64_t(kStopGraceS * 1e9);
+          while (!all_reaped(children) && runtime::mono_ns() < deadline) {
             reap(children);
             std::this_thread::sleep_for(std::chrono::milliseconds(10));
           }
@@ -532,7 +532,7 @@ int up(const std::vector<std::string>& argv) {
   participant.reset();
   if (crashed) clean_shared_memory(d.domain);
 
-  std::printf("hcosim up: %s after %.1f s\n%s", reason.c_str(), (rt::mono_ns() - start) * 1e-9, last_words.c_str());
+  std::printf("hcosim up: %s after %.1f s\n%s", reason.c_str(), (runtime::mono_ns() - start) * 1e-9, last_words.c_str());
   for (const auto& c : children)
     std::printf("  %-16s %-32s log %s\n", c.name.c_str(),
                 (describe(c.status) + (c.restarts ? ", " + std::to_string(c.restarts) + " restarts" : "")).c_str(),
@@ -541,4 +541,4 @@ int up(const std::vector<std::string>& argv) {
   return code;
 }
 
-}  // namespace hcosim::cli
+}  // namespace hcosim::services::cli

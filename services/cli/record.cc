@@ -7,11 +7,11 @@
 #include <stdexcept>
 #include <thread>
 
-#include "cli.h"
-#include "recording.h"
-#include "service.h"
+#include "services/cli/cli.h"
+#include "services/runtime/recording.h"
+#include "services/runtime/service.h"
 
-namespace hcosim::cli {
+namespace hcosim::services::cli {
 
 namespace {
 
@@ -23,11 +23,11 @@ int record_topics(const Args& a) {
   const std::vector<std::string> topics = topics_of(a);
   const double duration = a.number("--duration", 0);
   if (duration < 0) throw std::invalid_argument("--duration must not be negative");
-  rt::install_stop_handlers();
-  rt::Participant p(domain_of(a), "hcosim_record", rt::default_qos_file(), nullptr, false, security_of(a));
-  rt::Recorder recorder(p, a.positional[0], topics);
-  const std::int64_t end = duration > 0 ? rt::mono_ns() + std::int64_t(duration * 1e9) : INT64_MAX;
-  while (!rt::stop_requested() && rt::mono_ns() < end) {
+  runtime::install_stop_handlers();
+  runtime::Participant p(domain_of(a), "hcosim_record", runtime::default_qos_file(), nullptr, false, security_of(a));
+  runtime::Recorder recorder(p, a.positional[0], topics);
+  const std::int64_t end = duration > 0 ? runtime::mono_ns() + std::int64_t(duration * 1e9) : INT64_MAX;
+  while (!runtime::stop_requested() && runtime::mono_ns() < end) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   recorder.close();
@@ -51,13 +51,13 @@ int record(const std::vector<std::string>& argv) {
   if (!csv) throw std::runtime_error(out + ": cannot be written");
   csv.precision(9);
   csv << "time_s,x,y,z,buttons\n";
-  rt::install_stop_handlers();
-  rt::Participant p(domain_of(a), "hcosim_record", rt::default_qos_file(), nullptr, false, security_of(a));
-  rt::Reader<HapticState> reader(p, [](const HapticState& s) { return validate(s); });
-  const std::int64_t end = duration > 0 ? rt::mono_ns() + std::int64_t(duration * 1e9) : INT64_MAX;
+  runtime::install_stop_handlers();
+  runtime::Participant p(domain_of(a), "hcosim_record", runtime::default_qos_file(), nullptr, false, security_of(a));
+  runtime::Reader<HapticState> reader(p, [](const HapticState& s) { return adapters::validate(s); });
+  const std::int64_t end = duration > 0 ? runtime::mono_ns() + std::int64_t(duration * 1e9) : INT64_MAX;
   std::uint64_t n = 0;
   double last = -1;
-  while (!rt::stop_requested() && rt::mono_ns() < end) {
+  while (!runtime::stop_requested() && runtime::mono_ns() < end) {
     if (!reader.wait(std::chrono::milliseconds(100))) continue;
     reader.take([&](const HapticState& s) {
       if (!device.empty() && s.device().to_string() != device) return;
@@ -74,4 +74,4 @@ int record(const std::vector<std::string>& argv) {
   return n > 0 ? 0 : 1;
 }
 
-}  // namespace hcosim::cli
+}  // namespace hcosim::services::cli

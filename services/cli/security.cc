@@ -16,13 +16,13 @@
 #include <set>
 #include <sstream>
 
-#include "cli.h"
-#include "deployment.h"
-#include "participant.h"
+#include "services/cli/cli.h"
+#include "services/runtime/deployment.h"
+#include "services/runtime/participant.h"
 
 namespace fs = std::filesystem;
 
-namespace hcosim::cli {
+namespace hcosim::services::cli {
 namespace {
 
 // Runs openssl with `args`; throws with its own message when it fails.
@@ -87,7 +87,7 @@ std::string governance(bool all) {
   <domain_access_rules>
     <domain_rule>
       <domains><id_range><min>0</min><max>)" +
-         std::to_string(rt::kMaxDomain) + R"(</max></id_range></domains>
+         std::to_string(runtime::kMaxDomain) + R"(</max></id_range></domains>
       <allow_unauthenticated_participants>false</allow_unauthenticated_participants>
       <enable_join_access_control>true</enable_join_access_control>
       <discovery_protection_kind>ENCRYPT</discovery_protection_kind>
@@ -149,8 +149,8 @@ std::set<std::string> names_in(const std::string& list, const char* flag) {
 
 int init(const Args& a) {
   if (a.positional.size() > 1) throw std::invalid_argument("security init takes one DIR");
-  rt::Deployment d;
-  if (a.has("--deployment")) d = rt::load_deployment(a.get("--deployment", ""));
+  runtime::Deployment d;
+  if (a.has("--deployment")) d = runtime::load_deployment(a.get("--deployment", ""));
   std::string dir = a.positional.empty() ? d.security : a.positional[0];
   if (dir.empty())
     throw std::invalid_argument("security init needs a DIR, or a --deployment FILE with a 'security' section");
@@ -163,7 +163,7 @@ int init(const Args& a) {
   // the deployment, and whoever is named.
   std::set<std::string> full = names_in(a.get("--identities", ""), "--identities");
   const std::set<std::string> readers = names_in(a.get("--readers", ""), "--readers");
-  full.insert(rt::kToolIdentity);
+  full.insert(runtime::kToolIdentity);
   if (!d.file.empty()) {
     full.insert("clock");
     for (const auto& s : d.services) full.insert(s.name);
@@ -171,15 +171,15 @@ int init(const Args& a) {
   for (const auto& r : readers)
     if (full.count(r)) throw std::invalid_argument("--readers: '" + r + "' is also a publishing identity");
 
-  if (fs::exists(rt::ca_file(dir))) {
+  if (fs::exists(runtime::ca_file(dir))) {
     if (a.has("--keep")) {
       std::cout << "hcosim security: keeping the credentials in " << dir << "\n";
       return 0;
     }
     if (!a.has("--force"))
-      throw std::invalid_argument(dir + " already holds a CA (" + rt::ca_file(dir) +
+      throw std::invalid_argument(dir + " already holds a CA (" + runtime::ca_file(dir) +
                                   "); --force replaces everything in it, --keep keeps it, or choose another folder");
-    for (const auto& f : {rt::ca_file(dir), rt::ca_key_file(dir), rt::governance_file(dir), rt::permissions_file(dir)})
+    for (const auto& f : {runtime::ca_file(dir), runtime::ca_key_file(dir), runtime::governance_file(dir), runtime::permissions_file(dir)})
       fs::remove(f);
     fs::remove_all(fs::path(dir) / "identities");
   }
@@ -190,19 +190,19 @@ int init(const Args& a) {
   // The CA: one key pair both for identities (PKI-DH) and for documents
   // (Access-Permissions). ECDSA P-256, which both plugins accept.
   std::cerr << "hcosim security: CA in " << dir << "\n";
-  openssl({"genpkey", "-algorithm", "EC", "-pkeyopt", "ec_paramgen_curve:P-256", "-out", rt::ca_key_file(dir)});
-  fs::permissions(rt::ca_key_file(dir), fs::perms::owner_read | fs::perms::owner_write, fs::perm_options::replace);
-  openssl({"req", "-x509", "-new", "-key", rt::ca_key_file(dir), "-sha256", "-days", valid, "-subj", "/CN=hcosim test CA",
-           "-out", rt::ca_file(dir)});
+  openssl({"genpkey", "-algorithm", "EC", "-pkeyopt", "ec_paramgen_curve:P-256", "-out", runtime::ca_key_file(dir)});
+  fs::permissions(runtime::ca_key_file(dir), fs::perms::owner_read | fs::perms::owner_write, fs::perm_options::replace);
+  openssl({"req", "-x509", "-new", "-key", runtime::ca_key_file(dir), "-sha256", "-days", valid, "-subj", "/CN=hcosim test CA",
+           "-out", runtime::ca_file(dir)});
   std::set<std::string> everyone = full;
   everyone.insert(readers.begin(), readers.end());
   for (const auto& n : everyone) {
-    const std::string key = rt::key_file(dir, n), cert = rt::certificate_file(dir, n);
+    const std::string key = runtime::key_file(dir, n), cert = runtime::certificate_file(dir, n);
     const std::string csr = (fs::path(dir) / "identities" / (n + ".csr")).string();
     openssl({"genpkey", "-algorithm", "EC", "-pkeyopt", "ec_paramgen_curve:P-256", "-out", key});
     fs::permissions(key, fs::perms::owner_read | fs::perms::owner_write, fs::perm_options::replace);
     openssl({"req", "-new", "-key", key, "-subj", "/CN=" + n, "-out", csr});
-    openssl({"x509", "-req", "-in", csr, "-CA", rt::ca_file(dir), "-CAkey", rt::ca_key_file(dir), "-CAcreateserial",
+    openssl({"x509", "-req", "-in", csr, "-CA", runtime::ca_file(dir), "-CAkey", runtime::ca_key_file(dir), "-CAcreateserial",
              "-sha256", "-days", valid, "-out", cert});
     fs::remove(csr);
     std::cerr << "hcosim security: identity " << n << (readers.count(n) ? " (subscribe only)" : "") << "\n";
@@ -210,14 +210,14 @@ int init(const Args& a) {
   fs::remove(fs::path(dir) / "ca.srl");
 
   const std::time_t now = std::time(nullptr);
-  const std::string domains = d.file.empty() ? "<id_range><min>0</min><max>" + std::to_string(rt::kMaxDomain) + "</max></id_range>"
+  const std::string domains = d.file.empty() ? "<id_range><min>0</min><max>" + std::to_string(runtime::kMaxDomain) + "</max></id_range>"
                                              : "<id>" + std::to_string(d.domain) + "</id>";
   const fs::path gov = fs::path(dir) / "governance.xml", perm = fs::path(dir) / "permissions.xml";
   write(gov, governance(protection == "all"));
   write(perm, permissions(full, readers, domains, utc(now - 3600), utc(now + std::time_t(days) * 86400)));
-  for (const auto& [xml, signed_] : {std::pair{gov.string(), rt::governance_file(dir)}, {perm.string(), rt::permissions_file(dir)}})
-    openssl({"smime", "-sign", "-text", "-in", xml, "-signer", rt::ca_file(dir), "-inkey", rt::ca_key_file(dir), "-out", signed_});
-  std::cout << "hcosim security: " << everyone.size() << " identities in " << dir << " (CA " << rt::ca_file(dir)
+  for (const auto& [xml, signed_] : {std::pair{gov.string(), runtime::governance_file(dir)}, {perm.string(), runtime::permissions_file(dir)}})
+    openssl({"smime", "-sign", "-text", "-in", xml, "-signer", runtime::ca_file(dir), "-inkey", runtime::ca_key_file(dir), "-out", signed_});
+  std::cout << "hcosim security: " << everyone.size() << " identities in " << dir << " (CA " << runtime::ca_file(dir)
             << ", valid " << valid << " days, " << protection << " encrypted" << (d.file.empty() ? "" : ", domain " + std::to_string(d.domain)) << ")\n";
   return 0;
 }
@@ -234,4 +234,4 @@ int security(const std::vector<std::string>& argv) {
   return init(a);
 }
 
-}  // namespace hcosim::cli
+}  // namespace hcosim::services::cli

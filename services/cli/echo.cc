@@ -4,17 +4,17 @@
 #include <iostream>
 #include <stdexcept>
 
-#include "cli.h"
-#include "idl_json.h"
-#include "service.h"
+#include "services/cli/cli.h"
+#include "adapters/idl_json.h"
+#include "services/runtime/service.h"
 
-namespace hcosim::cli {
+namespace hcosim::services::cli {
 namespace {
 
 std::string known_topics() {
   std::string out;
-  rt::for_each_topic([&](auto tag) {
-    out += (out.empty() ? "" : ", ") + std::string(rt::TopicOf<typename decltype(tag)::type>::name);
+  runtime::for_each_topic([&](auto tag) {
+    out += (out.empty() ? "" : ", ") + std::string(runtime::TopicOf<typename decltype(tag)::type>::name);
   });
   return out;
 }
@@ -24,7 +24,7 @@ template <class F>
 int for_topic(const Args& a, const char* cmd, F&& f) {
   if (a.positional.size() != 1) throw std::invalid_argument(std::string(cmd) + " needs exactly one TOPIC");
   int code = 0;
-  if (!rt::with_topic(a.positional[0], [&](auto tag) { code = f(tag); }))
+  if (!runtime::with_topic(a.positional[0], [&](auto tag) { code = f(tag); }))
     throw std::invalid_argument("unknown topic '" + a.positional[0] + "' (known: " + known_topics() + ")");
   return code;
 }
@@ -38,23 +38,23 @@ int echo(const std::vector<std::string>& argv) {
   if (count < 0 || timeout < 0) throw std::invalid_argument("--count and --timeout must not be negative");
   return for_topic(a, "echo", [&](auto tag) {
     using T = typename decltype(tag)::type;
-    rt::install_stop_handlers();
-    rt::Participant p(domain_of(a), "hcosim_echo", rt::default_qos_file(), nullptr, false, security_of(a));
+    runtime::install_stop_handlers();
+    runtime::Participant p(domain_of(a), "hcosim_echo", runtime::default_qos_file(), nullptr, false, security_of(a));
     // No validation: echo shows what is on the wire, bad samples included.
-    rt::Reader<T> reader(p);
-    const std::int64_t deadline = timeout > 0 ? rt::mono_ns() + std::int64_t(timeout * 1e9) : INT64_MAX;
+    runtime::Reader<T> reader(p);
+    const std::int64_t deadline = timeout > 0 ? runtime::mono_ns() + std::int64_t(timeout * 1e9) : INT64_MAX;
     std::uint64_t seen = 0;
-    while (!rt::stop_requested() && (count == 0 || seen < count) && rt::mono_ns() < deadline) {
+    while (!runtime::stop_requested() && (count == 0 || seen < count) && runtime::mono_ns() < deadline) {
       if (!reader.wait(std::chrono::milliseconds(100))) continue;
       reader.take([&](const T& s) {
         if (count > 0 && seen >= count) return;
-        std::fputs(to_json(s).c_str(), stdout);
+        std::fputs(adapters::to_json(s).c_str(), stdout);
         std::fputc('\n', stdout);
         ++seen;
       });
       std::fflush(stdout);
     }
-    if (count > 0 && seen < count && !rt::stop_requested()) {
+    if (count > 0 && seen < count && !runtime::stop_requested()) {
       std::cerr << "hcosim echo: " << seen << " of " << count << " samples of " << a.positional[0] << " on domain "
                 << domain_of(a) << " within " << timeout << " s\n";
       return 1;
@@ -69,12 +69,12 @@ int hz(const std::vector<std::string>& argv) {
   if (duration < 0) throw std::invalid_argument("--duration must not be negative");
   return for_topic(a, "hz", [&](auto tag) {
     using T = typename decltype(tag)::type;
-    rt::install_stop_handlers();
-    rt::Participant p(domain_of(a), "hcosim_hz", rt::default_qos_file(), nullptr, false, security_of(a));
-    rt::Reader<T> reader(p);
-    const std::int64_t start = rt::mono_ns();
+    runtime::install_stop_handlers();
+    runtime::Participant p(domain_of(a), "hcosim_hz", runtime::default_qos_file(), nullptr, false, security_of(a));
+    runtime::Reader<T> reader(p);
+    const std::int64_t start = runtime::mono_ns();
     const std::int64_t end = duration > 0 ? start + std::int64_t(duration * 1e9) : INT64_MAX;
-    rt::Window periods_ms(1 << 16);
+    runtime::Window periods_ms(1 << 16);
     std::uint64_t total = 0;
     std::int64_t first = 0, last = 0, next_report = start + 1'000'000'000;
     auto report = [&] {
@@ -88,16 +88,16 @@ int hz(const std::vector<std::string>& argv) {
       }
       std::fflush(stdout);
     };
-    while (!rt::stop_requested() && rt::mono_ns() < end) {
+    while (!runtime::stop_requested() && runtime::mono_ns() < end) {
       if (reader.wait(std::chrono::milliseconds(50)))
         reader.take([&](const T&) {
-          const std::int64_t now = rt::mono_ns();
+          const std::int64_t now = runtime::mono_ns();
           if (total == 0) first = now;
           else periods_ms.add((now - last) * 1e-6);
           last = now;
           ++total;
         });
-      if (duration == 0 && rt::mono_ns() >= next_report) {
+      if (duration == 0 && runtime::mono_ns() >= next_report) {
         report();
         next_report += 1'000'000'000;
       }
@@ -107,4 +107,4 @@ int hz(const std::vector<std::string>& argv) {
   });
 }
 
-}  // namespace hcosim::cli
+}  // namespace hcosim::services::cli

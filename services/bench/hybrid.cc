@@ -22,14 +22,14 @@
 #include <algorithm>
 #include <chrono>
 
-#include "bench.h"
-#include "deformable/hybrid.h"
-#include "deformable/mesh_idl.h"
+#include "services/bench/bench.h"
+#include "models/deformable/hybrid.h"
+#include "adapters/deformable/mesh_idl.h"
 
-namespace hcosim::cli {
+namespace hcosim::services::bench {
 namespace {
 
-using namespace hcosim::deformable;
+using namespace hcosim::models::deformable;
 using Clock = std::chrono::steady_clock;
 
 double us_since(Clock::time_point t) { return std::chrono::duration<double, std::micro>(Clock::now() - t).count(); }
@@ -83,7 +83,7 @@ Row pipeline_row(const std::string& scale) {
     if (k % 33 == 0) {
       // What the service's visual worker does, short of writing the sample.
       const auto t2 = Clock::now();
-      fill_mesh(mesh, "cube", StepStamp(), h.surface(), h.triangles());
+      adapters::deformable::fill_mesh(mesh, "cube", StepStamp(), h.surface(), h.triangles());
       visual.push_back(us_since(t2) * 1e-3);
       if (!std::all_of(mesh.positions().begin(), mesh.positions().end(), [](float f) { return std::isfinite(f); }))
         throw std::runtime_error("bench hybrid: non-finite visual mesh");
@@ -129,7 +129,7 @@ std::vector<Row> visual_rows(bool quick) {
       s.visual_subdivisions = shape.subdivisions;
       s.visual_exponent = shape.exponent;
       const Hybrid h(s);
-      const massspring::Lattice& lat = h.behavior().lattice();
+      const models::massspring::Lattice& lat = h.behavior().lattice();
       const std::vector<int>& cage = h.cage_masses();
       Eigen::Matrix3Xd x(3, cage.size());
       for (std::size_t i = 0; i < cage.size(); ++i) x.col(i) = deform(s, lat.rest.col(cage[i]));
@@ -225,4 +225,4 @@ Suite hybrid_suite() {
   return s;
 }
 
-}  // namespace hcosim::cli
+}  // namespace hcosim::services::bench

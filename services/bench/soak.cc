@@ -29,11 +29,11 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "bench.h"
-#include "endpoint.h"
-#include "service.h"
+#include "services/bench/bench.h"
+#include "services/runtime/endpoint.h"
+#include "services/runtime/service.h"
 
-namespace hcosim::cli {
+namespace hcosim::services::bench {
 namespace {
 
 namespace fs = std::filesystem;
@@ -75,14 +75,14 @@ std::vector<Row> soak_rows(const Context& c) {
   progress("soak: the default deployment in real time for " + text(total) + " s, a row every " + text(window) +
            " s (" + dir.string() + ")");
 
-  rt::install_stop_handlers();  // Ctrl-C stops the deployment too, and ends the suite
-  rt::Participant p(c.domain, "bench_soak");
-  rt::Reader<HapticState> states(p);
-  rt::Reader<ForceFeedback> forces(p);
-  rt::Reader<ServiceStatus> status(p);
-  rt::Reader<DeformedMesh> meshes(p);
-  rt::Reader<RigidBodyState> bodies(p);
-  rt::Reader<MarkerPose> poses(p);
+  runtime::install_stop_handlers();  // Ctrl-C stops the deployment too, and ends the suite
+  runtime::Participant p(c.domain, "bench_soak");
+  runtime::Reader<HapticState> states(p);
+  runtime::Reader<ForceFeedback> forces(p);
+  runtime::Reader<ServiceStatus> status(p);
+  runtime::Reader<DeformedMesh> meshes(p);
+  runtime::Reader<RigidBodyState> bodies(p);
+  runtime::Reader<MarkerPose> poses(p);
   auto lost = [&] { return double(status.lost() + meshes.lost() + bodies.lost() + poses.lost()); };
 
   const pid_t up = start_up(file, dir / "out", log);
@@ -93,9 +93,9 @@ std::vector<Row> soak_rows(const Context& c) {
     return st;
   };
   // Wait for every service's loop to run (models built) before the first window.
-  const std::int64_t start_deadline = rt::mono_ns() + std::int64_t(60e9);
+  const std::int64_t start_deadline = runtime::mono_ns() + std::int64_t(60e9);
   while (tail(log).find("every service running") == std::string::npos) {
-    if (rt::mono_ns() > start_deadline || waitpid(up, nullptr, WNOHANG) == up) {
+    if (runtime::mono_ns() > start_deadline || waitpid(up, nullptr, WNOHANG) == up) {
       stop();
       throw std::runtime_error("soak: the deployment did not start:\n" + tail(log));
     }
@@ -104,19 +104,19 @@ std::vector<Row> soak_rows(const Context& c) {
   const std::map<std::string, pid_t> pids = started(log);
   // The haptic-rate services: those whose haptic threads run first.
   std::set<std::string> haptic;
-  for (const rt::ServiceSpec& spec : rt::load_deployment(file.string()).services)
+  for (const runtime::ServiceSpec& spec : runtime::load_deployment(file.string()).services)
     if (spec.priority > 0) haptic.insert(spec.name);
 
   std::unordered_map<std::uint64_t, std::int64_t> sent;  // omni's HapticState seq -> its wall clock, ns
   std::map<std::string, std::uint64_t> overruns;         // latest ServiceStatus.overruns per service
-  rt::Window rtt_us(1 << 20);
+  runtime::Window rtt_us(1 << 20);
   std::vector<Row> rows;
   double lost_before = lost(), overruns_before = 0, haptic_before = 0;
-  const std::int64_t start = rt::mono_ns();
+  const std::int64_t start = runtime::mono_ns();
   for (int w = 1; w * window <= total + 1e-9; ++w) {
     const std::int64_t end = start + std::int64_t(w * window * 1e9);
-    while (rt::mono_ns() < end) {
-      if (rt::stop_requested()) {
+    while (runtime::mono_ns() < end) {
+      if (runtime::stop_requested()) {
         stop();
         throw std::runtime_error("soak: stopped by a signal in window " + std::to_string(w));
       }
@@ -124,7 +124,7 @@ std::vector<Row> soak_rows(const Context& c) {
       states.take([&](const HapticState& s) {
         if (s.device() == "omni") sent[s.seq()] = s.stamp().wall_time_ns();
       });
-      const std::int64_t now = rt::wall_ns();
+      const std::int64_t now = runtime::wall_ns();
       forces.take([&](const ForceFeedback& f) {
         auto it = sent.find(f.answers_seq());
         if (f.device() == "omni" && it != sent.end()) rtt_us.add((now - it->second) * 1e-3);
@@ -193,7 +193,7 @@ pid_t start_up(const fs::path& deployment, const fs::path& out, const fs::path& 
 
 fs::path default_deployment(const fs::path& dir, int domain, double seconds, double duration,
                             const fs::path& device_report) {
-  const fs::path deploy = fs::path(rt::default_qos_file()).parent_path();
+  const fs::path deploy = fs::path(runtime::default_qos_file()).parent_path();
   YAML::Node tour = YAML::LoadFile((deploy / "scripts" / "tour.yaml").string());
   YAML::Node actions(YAML::NodeType::Sequence);
   // One tour takes about 20 s: enough of them for the run, and one more.
@@ -243,4 +243,4 @@ Suite soak_suite() {
   return s;
 }
 
-}  // namespace hcosim::cli
+}  // namespace hcosim::services::bench

@@ -12,9 +12,9 @@
 #include <variant>
 #include <vector>
 
-#include "stats.h"
+#include "services/runtime/stats.h"
 
-namespace hcosim::cli {
+namespace hcosim::services::bench {
 
 using Value = std::variant<double, std::string>;
 
@@ -78,25 +78,33 @@ struct Suite {
 
 inline void progress(const std::string& line) { std::cerr << "bench: " << line << std::endl; }
 
-// Mass-spring integrators and MuJoCo on the same lattices: bench_massspring.cc.
+// `hcosim bench SUITE|all|list|report ...`: runs suites and writes their
+// report (bench.cc).
+int command(const std::vector<std::string>& argv);
+
+// `hcosim bench-peer ...`, hidden: the far end of the dds suite's round
+// trips (dds.cc, peer.h).
+int peer_command(const std::vector<std::string>& argv);
+
+// Mass-spring integrators and MuJoCo on the same lattices: massspring.cc.
 Suite massspring_suite();
 
-// The haptic device's closed loop, the stiff-wall rig: bench_haptic.cc.
+// The haptic device's closed loop, the stiff-wall rig: haptic.cc.
 Suite haptic_suite();
 
-// The hybrid deformable model's parts and pipeline: bench_hybrid.cc.
+// The hybrid deformable model's parts and pipeline: hybrid.cc.
 Suite hybrid_suite();
 
-// The rigid model against eq 2 and MuJoCo, and its step cost: bench_rigid.cc.
+// The rigid model against eq 2 and MuJoCo, and its step cost: rigid.cc.
 Suite rigid_suite();
 
-// Marker detection and pose against ground truth and ArUco: bench_tracking.cc.
+// Marker detection and pose against ground truth and ArUco: tracking.cc.
 Suite tracking_suite();
 
-// The AR view's frame against OpenCV drawing the same triangles: bench_arview.cc.
+// The AR view's frame against OpenCV drawing the same triangles: arview.cc.
 Suite arview_suite();
 
-// The default deployment for half an hour: bench_soak.cc.
+// The default deployment for half an hour: soak.cc.
 Suite soak_suite();
 
 // deploy/default.yaml's scene and services in real time on `domain`, its
@@ -111,25 +119,8 @@ pid_t start_up(const std::filesystem::path& deployment, const std::filesystem::p
                const std::filesystem::path& log);
 
 // The DDS transport: haptic round trips and mesh publishing against bare
-// Fast DDS: bench_dds.cc.
+// Fast DDS: dds.cc.
 Suite dds_suite();
-
-// 1 kHz HapticState -> ForceFeedback round trips, us (bench_dds.cc).
-struct Rtt {
-  rt::Window us{1 << 20};
-  rt::Window late_us{1 << 20};  // the pinging loop's wake-up lateness: a bare timer's jitter beside the same load
-  std::uint64_t sent = 0, lost = 0;
-};
-
-// A peer process answering HapticState with ForceFeedback: `impl` "bare"
-// (Fast DDS alone) or "hcosim" (the service runtime), at SCHED_FIFO
-// `priority` (0: the normal scheduler) as far as the system allows.
-pid_t start_peer(const std::string& impl, int domain, double seconds, int priority = 0);
-void stop_peer(pid_t pid);
-
-// Round trips against a bare Fast DDS peer for `seconds`, both ends (and
-// their Fast DDS threads) at `priority`.
-Rtt bare_rtt(int domain, double seconds, int priority = 0);
 
 // Where a suite's plots go: DIR/SUITE_GROUP.png, one per group of each plot.
 struct Figure {
@@ -138,7 +129,7 @@ struct Figure {
   std::string caption;
 };
 
-// Draws every plot of `s` from its rows into `dir` (bench_report.cc).
+// Draws every plot of `s` from its rows into `dir` (report.cc).
 std::vector<Figure> draw_plots(const Suite& s, const std::vector<Row>& rows, const std::filesystem::path& dir);
 
 using Machine = std::vector<std::pair<std::string, std::string>>;
@@ -158,8 +149,8 @@ struct Result {
 };
 
 // Writes DIR/index.md: per suite its goals, tables and plots, and the
-// machine (bench_report.cc). `redrawn_by` names the command when the
+// machine (report.cc). `redrawn_by` names the command when the
 // report is drawn again from the JSON files of an earlier run.
 void write_index(const std::filesystem::path& dir, const std::vector<Result>& results, const std::string& redrawn_by = "");
 
-}  // namespace hcosim::cli
+}  // namespace hcosim::services::bench

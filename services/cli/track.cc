@@ -15,19 +15,19 @@
 #include <opencv2/videoio.hpp>
 #include <yaml-cpp/yaml.h>
 
-#include "cli.h"
-#include "config.h"
-#include "json.h"
-#include "service.h"
-#include "vision/calibration.h"
-#include "vision/source.h"
-#include "vision/tracker.h"
+#include "services/cli/cli.h"
+#include "adapters/config.h"
+#include "adapters/json.h"
+#include "services/runtime/service.h"
+#include "adapters/vision/calibration.h"
+#include "adapters/vision/source.h"
+#include "models/vision/tracker.h"
 
-namespace hcosim::cli {
+namespace hcosim::services::cli {
 namespace {
 
 namespace fs = std::filesystem;
-using namespace hcosim::vision;
+using namespace hcosim::models::vision;
 
 // Frames without a tag are named one by one up to this many, then counted.
 constexpr int kNamedMisses = 10;
@@ -37,7 +37,7 @@ constexpr std::size_t kMaxFrames = 1 << 16;
 
 // {"frame": i, "id": n, "R": [row-major, tag to camera], "t": [m], "reprojection_error_px": e}
 std::string pose_line(std::uint64_t frame, int id, const Eigen::Isometry3d& p, double error_px) {
-  Json j;
+  adapters::Json j;
   j.begin_object().key("frame").value(frame).key("id").value(id).key("R").begin_array();
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) j.value(p.linear()(r, c));
@@ -50,7 +50,7 @@ std::string pose_line(std::uint64_t frame, int id, const Eigen::Isometry3d& p, d
 // The poses of a JSON-lines file in pose_line's format, by (frame, id).
 std::map<std::pair<std::uint64_t, int>, Eigen::Isometry3d> read_poses(const std::string& path) {
   std::ifstream in(path);
-  if (!in) throw ConfigError(path + ": cannot be read");
+  if (!in) throw adapters::ConfigError(path + ": cannot be read");
   std::map<std::pair<std::uint64_t, int>, Eigen::Isometry3d> out;
   std::string line;
   for (int n = 1; std::getline(in, line); ++n) {
@@ -61,13 +61,13 @@ std::map<std::pair<std::uint64_t, int>, Eigen::Isometry3d> read_poses(const std:
       const YAML::Node j = YAML::Load(line);
       const YAML::Node R = j["R"], t = j["t"];
       if (!j.IsMap() || !j["frame"] || !j["id"] || !R.IsSequence() || R.size() != 9 || !t.IsSequence() || t.size() != 3)
-        throw ConfigError(where + ": expected {\"frame\": i, \"id\": n, \"R\": [9 numbers], \"t\": [3 numbers], ...}");
+        throw adapters::ConfigError(where + ": expected {\"frame\": i, \"id\": n, \"R\": [9 numbers], \"t\": [3 numbers], ...}");
       Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
-      for (int k = 0; k < 9; ++k) p.linear()(k / 3, k % 3) = config_number(where, R[k], "R");
-      for (int k = 0; k < 3; ++k) p.translation()(k) = config_number(where, t[k], "t");
+      for (int k = 0; k < 9; ++k) p.linear()(k / 3, k % 3) = adapters::config_number(where, R[k], "R");
+      for (int k = 0; k < 3; ++k) p.translation()(k) = adapters::config_number(where, t[k], "t");
       out[{j["frame"].as<std::uint64_t>(), j["id"].as<int>()}] = p;
     } catch (const YAML::Exception& e) {
-      throw ConfigError(where + ": not a pose line: " + e.msg);
+      throw adapters::ConfigError(where + ": not a pose line: " + e.msg);
     }
   }
   return out;
@@ -102,9 +102,9 @@ int track(const std::vector<std::string>& argv) {
   p.detector.nthreads = a.whole("--threads", p.detector.nthreads, 1, 64);
   check(p);
   const std::string camera_file = a.get("--camera", "");
-  Intrinsics k = read_intrinsics(camera_file);
+  Intrinsics k = adapters::vision::read_intrinsics(camera_file);
   const auto truth = a.has("--truth") ? read_poses(a.get("--truth", "")) : decltype(read_poses("")){};
-  std::unique_ptr<Source> source = open_path(a.get("--source", ""));
+  std::unique_ptr<adapters::vision::Source> source = adapters::vision::open_path(a.get("--source", ""));
   const std::string out_path = a.get("--out", "");
   std::ofstream out(out_path);
   if (!out) throw std::runtime_error(out_path + ": cannot be written");
@@ -112,9 +112,9 @@ int track(const std::vector<std::string>& argv) {
 
   std::unique_ptr<Tracker> tracker;
   std::uint64_t frames = 0, with_tag = 0, detections = 0, misses = 0, unreadable = 0, wrong_size = 0;
-  rt::Window trans(kMaxFrames), rot(kMaxFrames), ms(kMaxFrames);
-  std::int64_t last_progress = rt::mono_ns();
-  for (Frame f; source->next(f);) {
+  runtime::Window trans(kMaxFrames), rot(kMaxFrames), ms(kMaxFrames);
+  std::int64_t last_progress = runtime::mono_ns();
+  for (adapters::vision::Frame f; source->next(f);) {
     ++frames;
     if (!f.problem.empty()) {
       std::cerr << "track: frame " << f.index << ": " << f.problem << ", skipped" << std::endl;
@@ -122,7 +122,7 @@ int track(const std::vector<std::string>& argv) {
       continue;
     }
     if (!tracker) {
-      k = with_frame_size(k, f.image.cols, f.image.rows, camera_file);
+      k = adapters::vision::with_frame_size(k, f.image.cols, f.image.rows, camera_file);
       tracker = std::make_unique<Tracker>(p, k);
     }
     if (f.image.cols != k.width || f.image.rows != k.height) {
@@ -131,9 +131,9 @@ int track(const std::vector<std::string>& argv) {
       ++wrong_size;
       continue;
     }
-    const std::int64_t t0 = rt::mono_ns();
+    const std::int64_t t0 = runtime::mono_ns();
     const std::vector<Observation> seen = tracker->track(f.image);
-    ms.add((rt::mono_ns() - t0) * 1e-6);
+    ms.add((runtime::mono_ns() - t0) * 1e-6);
     if (seen.empty() && ++misses <= kNamedMisses)
       std::cerr << "track: frame " << f.index << ": no " << p.detector.family << " tag found" << std::endl;
     with_tag += !seen.empty();
@@ -146,8 +146,8 @@ int track(const std::vector<std::string>& argv) {
                       t->second.translation().norm());
       rot.add(angle_between(o.pose.tag_in_camera.linear(), t->second.linear()) * 180 / M_PI);
     }
-    if (rt::mono_ns() - last_progress > 2'000'000'000) {
-      last_progress = rt::mono_ns();
+    if (runtime::mono_ns() - last_progress > 2'000'000'000) {
+      last_progress = runtime::mono_ns();
       std::cerr << "track: " << frames << " frames, " << with_tag << " with a tag" << std::endl;
     }
   }
@@ -188,10 +188,10 @@ int synth(const std::vector<std::string>& argv) {
   m.id = a.whole("--tag-id", m.id, 0, 1000000);
   m.tag_size = a.number("--tag-size", m.tag_size);
   const Intrinsics k = synthetic_intrinsics(w, h);
-  SyntheticSource source(SyntheticCamera(k, m), condition(a.get("--condition", "clean")), rate, std::uint64_t(n));
+  adapters::vision::SyntheticSource source(SyntheticCamera(k, m), condition(a.get("--condition", "clean")), rate, std::uint64_t(n));
   const fs::path dir = a.get("--out", "");
   fs::create_directories(dir / "frames");
-  write_intrinsics((dir / "camera.yaml").string(), k);
+  adapters::vision::write_intrinsics((dir / "camera.yaml").string(), k);
   std::ofstream truth(dir / "truth.jsonl");
   if (!truth) throw std::runtime_error((dir / "truth.jsonl").string() + ": cannot be written");
   cv::VideoWriter video;
@@ -202,7 +202,7 @@ int synth(const std::vector<std::string>& argv) {
     video.set(cv::VIDEOWRITER_PROP_QUALITY, 95);
   }
   std::cerr << "synth: " << source.describe() << std::endl;
-  for (Frame f; source.next(f);) {
+  for (adapters::vision::Frame f; source.next(f);) {
     const fs::path file = dir / "frames" / cv::format("frame_%06llu.png", (unsigned long long)f.index);
     if (!cv::imwrite(file.string(), f.image)) throw std::runtime_error(file.string() + ": cannot be written");
     if (video.isOpened()) video.write(f.image);
@@ -248,4 +248,4 @@ int video(const std::vector<std::string>& argv) {
   return frames ? 0 : 1;
 }
 
-}  // namespace hcosim::cli
+}  // namespace hcosim::services::cli

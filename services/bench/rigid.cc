@@ -18,13 +18,13 @@
 #include <chrono>
 #include <cmath>
 
-#include "bench.h"
-#include "rigid/crosscheck.h"
+#include "services/bench/bench.h"
+#include "models/rigid/crosscheck.h"
 
-namespace hcosim::cli {
+namespace hcosim::services::bench {
 namespace {
 
-using namespace hcosim::rigid;
+using namespace hcosim::models::rigid;
 using Clock = std::chrono::steady_clock;
 
 // 000 eq 2's case in one backend at step dt: equal masses and radii, e = 1,
@@ -211,4 +211,4 @@ Suite rigid_suite() {
   return s;
 }
 
-}  // namespace hcosim::cli
+}  // namespace hcosim::services::bench

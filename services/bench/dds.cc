@@ -13,8 +13,8 @@
 //   samples quick, 6 of 200 full), the impls taking turns to go first;
 //   figures pool every round. p99_split_ratio compares one impl's p99 over
 //   its odd rounds with that over its even ones (the larger over the
-//   smaller): a ratio to bare within it is within the machine's noise. `impl` hcosim: rt::Participant with
-//   deploy/qos.xml's transports and "state" profile, rt::Writer, rt::Reader
+//   smaller): a ratio to bare within it is within the machine's noise. `impl` hcosim: runtime::Participant with
+//   deploy/qos.xml's transports and "state" profile, runtime::Writer, runtime::Reader
 //   (which validates every sample). `impl` bare: Fast DDS alone, the same
 //   transports (shared memory with an 8 MiB segment, UDPv4) and QoS
 //   (RELIABLE, VOLATILE, writer and readers KEEP_LAST 16) set in code, the
@@ -39,15 +39,16 @@
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 
-#include "bench.h"
-#include "cli.h"
-#include "realtime.h"
-#include "service.h"
-#include "validate.h"
+#include "services/bench/bench.h"
+#include "services/bench/peer.h"
+#include "services/cli/cli.h"
+#include "services/runtime/realtime.h"
+#include "services/runtime/service.h"
+#include "adapters/validate.h"
 
 namespace fs = std::filesystem;
 
-namespace hcosim::cli {
+namespace hcosim::services::bench {
 namespace {
 
 using namespace eprosima::fastdds::dds;
@@ -77,9 +78,9 @@ void destroy(DomainParticipant* p) {
 
 template <class T>
 Topic* bare_topic(DomainParticipant* p, const char* name) {
-  TypeSupport ts(new typename rt::TopicOf<T>::PubSub());
-  ts.register_type(p, rt::TopicOf<T>::type_name);
-  return p->create_topic(name, rt::TopicOf<T>::type_name, TOPIC_QOS_DEFAULT);
+  TypeSupport ts(new typename runtime::TopicOf<T>::PubSub());
+  ts.register_type(p, runtime::TopicOf<T>::type_name);
+  return p->create_topic(name, runtime::TopicOf<T>::type_name, TOPIC_QOS_DEFAULT);
 }
 
 // Round trips: BEST_EFFORT and KEEP_LAST 1 set in code, default transports.
@@ -117,13 +118,13 @@ struct Pong {
   std::function<void(ForceFeedback&)> write;
 };
 
-const eprosima::fastrtps::Duration_t kWait = rt::to_dds(std::chrono::milliseconds(100));
+const eprosima::fastrtps::Duration_t kWait = runtime::to_dds(std::chrono::milliseconds(100));
 
 int pong_loop(Pong& p, std::int64_t end) {
   HapticState in;
   ForceFeedback out;
   out.source("bench");
-  while (!rt::stop_requested() && rt::mono_ns() < end) {
+  while (!runtime::stop_requested() && runtime::mono_ns() < end) {
     if (!p.wait()) continue;
     while (p.take(in)) {
       out.device(in.device());
@@ -148,20 +149,20 @@ Rtt ping(double seconds, Wait&& wait, Take&& take, Write&& write) {
   HapticState s;
   s.device("bench");
   s.orientation().w(1.0);
-  const std::int64_t period = 1'000'000, start = rt::mono_ns();
+  const std::int64_t period = 1'000'000, start = runtime::mono_ns();
   const std::uint64_t n = std::uint64_t(seconds * 1000);
   for (std::uint64_t k = 0; k < n; ++k) {
     sleep_until(start + std::int64_t(k) * period);
-    r.late_us.add((rt::mono_ns() - start - std::int64_t(k) * period) * 1e-3);
+    r.late_us.add((runtime::mono_ns() - start - std::int64_t(k) * period) * 1e-3);
     s.seq(k);
     s.position().z(1e-3 * double(k % 10));
-    const std::int64_t t0 = rt::mono_ns();
+    const std::int64_t t0 = runtime::mono_ns();
     write(s);
     ++r.sent;
     bool answered = false;
-    while (!answered && rt::mono_ns() - t0 < 10'000'000)
+    while (!answered && runtime::mono_ns() - t0 < 10'000'000)
       if (wait()) answered = take(k);
-    if (answered) r.us.add((rt::mono_ns() - t0) * 1e-3);
+    if (answered) r.us.add((runtime::mono_ns() - t0) * 1e-3);
     else ++r.lost;
   }
   return r;
@@ -169,8 +170,8 @@ Rtt ping(double seconds, Wait&& wait, Take&& take, Write&& write) {
 
 // Waits up to 10 s for `want` matches on both counts.
 void await_match(const std::function<int()>& writers_readers, int want) {
-  const std::int64_t deadline = rt::mono_ns() + 10'000'000'000;
-  while (writers_readers() < want && rt::mono_ns() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  const std::int64_t deadline = runtime::mono_ns() + 10'000'000'000;
+  while (writers_readers() < want && runtime::mono_ns() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(20));
 }
 
 Row rtt_row(const std::string& impl, const Rtt& r) {
@@ -187,9 +188,9 @@ Rtt hcosim_rtt(int domain, double seconds) {
   const pid_t peer = start_peer("hcosim", domain, seconds);
   Rtt r;
   {
-    rt::Participant p(domain, "bench");
-    rt::Writer<HapticState> w(p);
-    rt::Reader<ForceFeedback> rd(p, [](const ForceFeedback& s) { return validate(s); });
+    runtime::Participant p(domain, "bench");
+    runtime::Writer<HapticState> w(p);
+    runtime::Reader<ForceFeedback> rd(p, [](const ForceFeedback& s) { return adapters::validate(s); });
     await_match([&] { return std::min(w.matched(), rd.matched()); }, 1);
     r = ping(
         seconds, [&] { return rd.wait(std::chrono::milliseconds(10)); },
@@ -292,32 +293,32 @@ Writing write_meshes(int vertices, int count, const std::vector<fs::path>& reade
     m.positions()[2] = 1e-4f * float(step % 100);  // no two samples alike
     m.stamp().step(step);
     m.stamp().sim_time_ns(std::int64_t(step) * period);
-    m.stamp().wall_time_ns(rt::wall_ns());
+    m.stamp().wall_time_ns(runtime::wall_ns());
     return write(m);
   };
   m.topology_version(0);
-  const std::int64_t matched_at = rt::mono_ns();
+  const std::int64_t matched_at = runtime::mono_ns();
   int settle = kSettleSamples;
-  for (std::uint64_t k = 0; settle > 0 && !rt::stop_requested(); ++k) {
+  for (std::uint64_t k = 0; settle > 0 && !runtime::stop_requested(); ++k) {
     put(matched_at + std::int64_t(k) * period, k);
     if (ready(readers) < want) {
-      if (rt::mono_ns() - matched_at > 10'000'000'000)
+      if (runtime::mono_ns() - matched_at > 10'000'000'000)
         throw std::runtime_error("bench dds: of " + std::to_string(want) + " matched mesh readers, " +
                                  std::to_string(ready(readers)) + " took a sample in 10 s");
-      w.startup_ms = (rt::mono_ns() - matched_at) * 1e-6;
+      w.startup_ms = (runtime::mono_ns() - matched_at) * 1e-6;
     } else {
       --settle;
     }
   }
   m.topology_version(1);
   const double cpu0 = cpu_s();
-  const std::int64_t start = rt::mono_ns() + period;
-  for (int k = 0; k < count && !rt::stop_requested(); ++k) {
+  const std::int64_t start = runtime::mono_ns() + period;
+  for (int k = 0; k < count && !runtime::stop_requested(); ++k) {
     if (put(start + k * period, std::uint64_t(k))) ++w.written;
     else ++w.refused;
   }
   w.acked = acked();
-  w.window_s = (rt::mono_ns() - start) * 1e-9;
+  w.window_s = (runtime::mono_ns() - start) * 1e-9;
   w.cpu_s = cpu_s() - cpu0;
   return w;
 }
@@ -337,9 +338,9 @@ pid_t start_mesh_reader(const std::string& impl, int domain, int count, const fs
 // Waits up to `seconds` for `pid`, then stops it; true if it exited 0.
 bool reap(pid_t pid, double seconds) {
   int status = 0;
-  const std::int64_t deadline = rt::mono_ns() + std::int64_t(seconds * 1e9);
+  const std::int64_t deadline = runtime::mono_ns() + std::int64_t(seconds * 1e9);
   while (waitpid(pid, &status, WNOHANG) == 0) {
-    if (rt::mono_ns() > deadline) {
+    if (runtime::mono_ns() > deadline) {
       kill(pid, SIGTERM);
       waitpid(pid, &status, 0);
       break;
@@ -372,8 +373,8 @@ void say_missed(const std::string& impl, int reader, int count, const Seen& s, b
 
 // One impl's samples over every round of a configuration.
 struct MeshTotals {
-  rt::Window ms{1 << 20};
-  rt::Window half[2] = {rt::Window{1 << 20}, rt::Window{1 << 20}};  // odd and even rounds apart
+  runtime::Window ms{1 << 20};
+  runtime::Window half[2] = {runtime::Window{1 << 20}, runtime::Window{1 << 20}};  // odd and even rounds apart
   double written = 0, received = 0, refused = 0, rejected = 0, cpu_s = 0, window_s = 0;
   double startup_ms = 0;  // the slowest round's
 };
@@ -401,7 +402,7 @@ void mesh_round(const Context& c, const std::string& impl, int vertices, int rea
     q.history().kind = KEEP_LAST_HISTORY_QOS;
     q.history().depth = kWriterDepth;
     DataWriter* dw = p->create_publisher(PUBLISHER_QOS_DEFAULT)
-                         ->create_datawriter(bare_topic<DeformedMesh>(p, rt::TopicOf<DeformedMesh>::name), q);
+                         ->create_datawriter(bare_topic<DeformedMesh>(p, runtime::TopicOf<DeformedMesh>::name), q);
     w = write_meshes(
         vertices, count, files,
         [&] {
@@ -409,11 +410,11 @@ void mesh_round(const Context& c, const std::string& impl, int vertices, int rea
           dw->get_publication_matched_status(s);
           return s.current_count;
         },
-        [&](DeformedMesh& m) { return dw->write(&m); }, [&] { return dw->wait_for_acknowledgments(rt::to_dds(ack)) == ReturnCode_t::RETCODE_OK; });
+        [&](DeformedMesh& m) { return dw->write(&m); }, [&] { return dw->wait_for_acknowledgments(runtime::to_dds(ack)) == ReturnCode_t::RETCODE_OK; });
     destroy(p);
   } else {
-    rt::Participant p(c.domain, "bench");
-    rt::Writer<DeformedMesh> dw(p);
+    runtime::Participant p(c.domain, "bench");
+    runtime::Writer<DeformedMesh> dw(p);
     w = write_meshes(
         vertices, count, files, [&] { return dw.matched(); }, [&](DeformedMesh& m) { return dw.write(m); },
         [&] { return dw.wait_acknowledged(ack); });
@@ -499,7 +500,7 @@ int mesh_reader(const std::string& impl, int domain, int count, const fs::path& 
     if (cpu0 < 0) cpu0 = cpu_s();
     ++seen.received;
     seen.seq.push_back(m.stamp().step());
-    seen.ms.push_back((rt::wall_ns() - m.stamp().wall_time_ns()) * 1e-6);
+    seen.ms.push_back((runtime::wall_ns() - m.stamp().wall_time_ns()) * 1e-6);
     return m.stamp().step() + 1 >= std::uint64_t(count);
   };
   bool last = false;
@@ -511,21 +512,21 @@ int mesh_reader(const std::string& impl, int domain, int count, const fs::path& 
     q.history().kind = KEEP_LAST_HISTORY_QOS;
     q.history().depth = kReaderDepth;
     DataReader* r = p->create_subscriber(SUBSCRIBER_QOS_DEFAULT)
-                        ->create_datareader(bare_topic<DeformedMesh>(p, rt::TopicOf<DeformedMesh>::name), q);
+                        ->create_datareader(bare_topic<DeformedMesh>(p, runtime::TopicOf<DeformedMesh>::name), q);
     DeformedMesh m;
     SampleInfo info;
-    while (!last && !rt::stop_requested() && rt::mono_ns() < end) {
-      if (!r->wait_for_unread_message(rt::to_dds(std::chrono::milliseconds(20)))) continue;
+    while (!last && !runtime::stop_requested() && runtime::mono_ns() < end) {
+      if (!r->wait_for_unread_message(runtime::to_dds(std::chrono::milliseconds(20)))) continue;
       while (r->take_next_sample(&m, &info) == ReturnCode_t::RETCODE_OK)
         if (info.valid_data) last = got(m) || last;
     }
     destroy(p);
   } else {
-    rt::Participant p(domain, "bench_mesh_reader");
-    rt::Rejections rejected;
-    rt::Reader<DeformedMesh> r(
-        p, [](const DeformedMesh& m) { return validate(m); }, &rejected, rt::TopicOf<DeformedMesh>::qos, kReaderDepth);
-    while (!last && !rt::stop_requested() && rt::mono_ns() < end) {
+    runtime::Participant p(domain, "bench_mesh_reader");
+    runtime::Rejections rejected;
+    runtime::Reader<DeformedMesh> r(
+        p, [](const DeformedMesh& m) { return adapters::validate(m); }, &rejected, runtime::TopicOf<DeformedMesh>::qos, kReaderDepth);
+    while (!last && !runtime::stop_requested() && runtime::mono_ns() < end) {
       if (r.wait(std::chrono::milliseconds(20))) r.take([&](const DeformedMesh& m) { last = got(m) || last; });
     }
     seen.rejected = double(rejected.count);
@@ -573,7 +574,7 @@ Rtt bare_ping(int domain, double seconds) {
   ForceFeedback f;
   SampleInfo info;
   Rtt r = ping(
-      seconds, [&] { return b.reader->wait_for_unread_message(rt::to_dds(std::chrono::milliseconds(10))); },
+      seconds, [&] { return b.reader->wait_for_unread_message(runtime::to_dds(std::chrono::milliseconds(10))); },
       [&](std::uint64_t k) {
         bool hit = false;
         while (b.reader->take_next_sample(&f, &info) == ReturnCode_t::RETCODE_OK)
@@ -593,7 +594,7 @@ Rtt bare_rtt(int domain, double seconds, int priority) {
   // participant's threads, made on it) leaves the bench's others alone.
   Rtt r;
   std::thread([&] {
-    rt::apply({priority, -1});
+    runtime::apply({priority, -1});
     r = bare_ping(domain, seconds);
   }).join();
   stop_peer(peer);
@@ -626,15 +627,15 @@ Suite dds_suite() {
   return s;
 }
 
-int bench_peer(const std::vector<std::string>& argv) {
-  const Args a = parse(argv, {"--impl", "--domain", "--duration", "--role", "--count", "--out", "--priority"}, {});
-  const int domain = domain_of(a);
+int peer_command(const std::vector<std::string>& argv) {
+  const runtime::Args a = runtime::parse(argv, {"--impl", "--domain", "--duration", "--role", "--count", "--out", "--priority"}, {});
+  const int domain = runtime::domain_of(a);
   // Before any participant, so that Fast DDS's threads get it too.
-  rt::apply({int(a.whole("--priority", 0, 0, 99)), -1});
-  const std::int64_t end = rt::mono_ns() + std::int64_t(a.number("--duration", 60) * 1e9);
+  runtime::apply({int(a.whole("--priority", 0, 0, 99)), -1});
+  const std::int64_t end = runtime::mono_ns() + std::int64_t(a.number("--duration", 60) * 1e9);
   const std::string impl = a.get("--impl", "");
   if (impl != "bare" && impl != "hcosim") throw std::invalid_argument("bench-peer: --impl must be bare or hcosim");
-  rt::install_stop_handlers();
+  runtime::install_stop_handlers();
   if (a.get("--role", "pong") == "mesh")
     return mesh_reader(impl, domain, a.whole("--count", 0, 0, 1000000000), a.get("--out", "mesh_reader.txt"), end);
   if (impl == "bare") {
@@ -651,15 +652,15 @@ int bench_peer(const std::vector<std::string>& argv) {
     destroy(b.participant);
     return code;
   }
-  rt::Options o;
+  runtime::Options o;
   o.name = "bench_peer";
   o.domain = domain;
   o.rate_hz = 1000;
   o.step_s = 0.001;
-  o.qos_file = rt::default_qos_file();
-  rt::Service svc(o);
-  rt::Reader<HapticState> r = svc.reader<HapticState>();
-  rt::Writer<ForceFeedback> w = svc.writer<ForceFeedback>();
+  o.qos_file = runtime::default_qos_file();
+  runtime::Service svc(o);
+  runtime::Reader<HapticState> r = svc.reader<HapticState>();
+  runtime::Writer<ForceFeedback> w = svc.writer<ForceFeedback>();
   Pong p{[&] { return r.wait(std::chrono::milliseconds(100)); },
          [&](HapticState& s) {
            bool got = false;
@@ -670,4 +671,4 @@ int bench_peer(const std::vector<std::string>& argv) {
   return pong_loop(p, end);
 }
 
-}  // namespace hcosim::cli
+}  // namespace hcosim::services::bench

@@ -21,15 +21,15 @@
 #include <opencv2/aruco.hpp>
 #include <opencv2/core/utility.hpp>
 
-#include "bench.h"
-#include "vision/detector.h"
-#include "vision/pose.h"
-#include "vision/synthetic.h"
+#include "services/bench/bench.h"
+#include "models/vision/detector.h"
+#include "models/vision/pose.h"
+#include "models/vision/synthetic.h"
 
-namespace hcosim::cli {
+namespace hcosim::services::bench {
 namespace {
 
-using namespace hcosim::vision;
+using namespace hcosim::models::vision;
 using Clock = std::chrono::steady_clock;
 using Corners = std::array<Eigen::Vector2d, 4>;
 
@@ -186,4 +186,4 @@ Suite tracking_suite() {
   return s;
 }
 
-}  // namespace hcosim::cli
+}  // namespace hcosim::services::bench

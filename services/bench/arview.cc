@@ -27,80 +27,80 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
-#include "bench.h"
-#include "deformable/elastic_surface.h"
-#include "deformable/surface.h"
-#include "render/view.h"
-#include "vision/synthetic.h"
+#include "services/bench/bench.h"
+#include "models/deformable/elastic_surface.h"
+#include "models/deformable/surface.h"
+#include "models/render/view.h"
+#include "models/vision/synthetic.h"
 
-namespace hcosim::cli {
+namespace hcosim::services::bench {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-render::Mesh from(const massspring::TriangleMesh& m) {
-  render::Mesh out{m.vertices, {}};
+models::render::Mesh from(const models::massspring::TriangleMesh& m) {
+  models::render::Mesh out{m.vertices, {}};
   for (const Eigen::Vector3i& t : m.triangles)
     for (int k = 0; k < 3; ++k) out.triangles.push_back(std::uint32_t(t[k]));
   return out;
 }
 
-render::Mesh box(int subdivisions, const Eigen::Vector3d& centre, double size, double exponent) {
+models::render::Mesh box(int subdivisions, const Eigen::Vector3d& centre, double size, double exponent) {
   const Eigen::Vector3d h = Eigen::Vector3d::Constant(size / 2);
-  return from(deformable::rounded_box(subdivisions, centre - h, centre + h, exponent));
+  return from(models::deformable::rounded_box(subdivisions, centre - h, centre + h, exponent));
 }
 
-render::Mesh surface(deformable::Shape shape, const Eigen::Vector3d& centre, double size) {
-  deformable::SurfaceSpec s;
+models::render::Mesh surface(models::deformable::Shape shape, const Eigen::Vector3d& centre, double size) {
+  models::deformable::SurfaceSpec s;
   s.shape = shape;
   s.centre = centre;
   s.size = size;
-  const deformable::ElasticSurface e(s);
-  render::Mesh out{e.surface(), {}};
+  const models::deformable::ElasticSurface e(s);
+  models::render::Mesh out{e.surface(), {}};
   for (const Eigen::Vector3i& t : e.triangles())
     for (int k = 0; k < 3; ++k) out.triangles.push_back(std::uint32_t(t[k]));
   return out;
 }
 
 // deploy/default.yaml's objects at rest, and the stylus pressing the sheet.
-render::View scene(const std::string& name) {
-  render::View v;
-  const auto add = [&](render::Mesh m) { v.objects.push_back({"", std::move(m), render::object_colour(v.objects.size())}); };
+models::render::View scene(const std::string& name) {
+  models::render::View v;
+  const auto add = [&](models::render::Mesh m) { v.objects.push_back({"", std::move(m), models::render::object_colour(v.objects.size())}); };
   if (name == "one_mesh") return add(box(30, {0, 0.035, 0.015}, 0.03, 8)), v;
   if (name == "dense") return add(box(100, {0, 0.035, 0.015}, 0.03, 8)), v;
   Eigen::Isometry3d at = Eigen::Isometry3d::Identity();
   at.translation() = Eigen::Vector3d(-0.05, 0.035, 0.012);
-  add(render::placed(render::cube(0.012), at));
+  add(models::render::placed(models::render::cube(0.012), at));
   at.translation() = Eigen::Vector3d(-0.05, -0.035, 0.012);
-  add(render::placed(render::sphere(0.012), at));
-  add(surface(deformable::Shape::sheet, {0, 0.04, 0.02}, 0.04));
-  add(surface(deformable::Shape::semisphere, {0, -0.04, 0}, 0.02));
+  add(models::render::placed(models::render::sphere(0.012), at));
+  add(surface(models::deformable::Shape::sheet, {0, 0.04, 0.02}, 0.04));
+  add(surface(models::deformable::Shape::semisphere, {0, -0.04, 0}, 0.02));
   add(box(30, {0.05, 0.035, 0.015}, 0.03, 8));
   add(box(30, {0.05, -0.035, 0.015}, 0.03, 2));
-  render::Stylus s;
+  models::render::Stylus s;
   s.tip = Eigen::Vector3d(0, 0.04, 0.015);
   s.force = Eigen::Vector3d(0, 0, 0.8);
   v.stylus = s;
   return v;
 }
 
-std::size_t triangles(const render::View& v) {
+std::size_t triangles(const models::render::View& v) {
   std::size_t n = 0;
-  for (const render::Object& o : v.objects) n += o.mesh.triangles.size() / 3;
+  for (const models::render::Object& o : v.objects) n += o.mesh.triangles.size() / 3;
   return n;
 }
 
 // The baseline: the same shaded triangles painted far to near by OpenCV.
-void painter(const render::View& v, const vision::Intrinsics& k, const Eigen::Isometry3d& world_in_camera, cv::Mat& img) {
+void painter(const models::render::View& v, const models::vision::Intrinsics& k, const Eigen::Isometry3d& world_in_camera, cv::Mat& img) {
   struct Tri {
     double depth;
     std::array<cv::Point, 3> px;
     cv::Scalar colour;
   };
   std::vector<Tri> tris;
-  for (const render::Object& o : v.objects) {
+  for (const models::render::Object& o : v.objects) {
     const Eigen::Matrix3Xd cam = world_in_camera * o.mesh.vertices;
     for (std::size_t t = 0; t < o.mesh.triangles.size(); t += 3) {
       Tri tri;
@@ -125,10 +125,10 @@ void painter(const render::View& v, const vision::Intrinsics& k, const Eigen::Is
 std::vector<Row> frame_rows(const Context& c) {
   std::vector<Row> rows;
   const int frames = c.quick ? 30 : 150;
-  vision::Orbit orbit;
+  models::vision::Orbit orbit;
   orbit.upright = true, orbit.distance = 0.3, orbit.swing = 0.02, orbit.base_tilt_deg = 40, orbit.tilt_deg = 10;
   orbit.sweep_deg = 25, orbit.period = 40;
-  vision::Marker marker;
+  models::vision::Marker marker;
   marker.tag_size = 0.03, marker.sheet = 8;
   struct Case {
     std::string scene;
@@ -137,30 +137,30 @@ std::vector<Row> frame_rows(const Context& c) {
   std::vector<Case> cases{{"one_mesh", 640, 480}, {"default", 640, 480}};
   if (!c.quick) cases.insert(cases.end(), {{"default", 1280, 720}, {"dense", 640, 480}});
   for (const Case& cs : cases) {
-    const render::View view = scene(cs.scene);
-    const vision::Intrinsics k = vision::synthetic_intrinsics(cs.width, cs.height);
-    const vision::SyntheticCamera camera(k, marker);
+    const models::render::View view = scene(cs.scene);
+    const models::vision::Intrinsics k = models::vision::synthetic_intrinsics(cs.width, cs.height);
+    const models::vision::SyntheticCamera camera(k, marker);
     progress("arview " + cs.scene + " " + std::to_string(cs.width) + "x" + std::to_string(cs.height) + ": " +
              std::to_string(triangles(view)) + " triangles, " + std::to_string(frames) + " frames");
     // Backgrounds rendered ahead (the tracker's work, not the view's).
     std::vector<cv::Mat> grey;
     std::vector<Eigen::Isometry3d> poses;
     for (int i = 0; i < 10; ++i) {
-      poses.push_back(vision::orbit(2.0 * i, orbit));
+      poses.push_back(models::vision::orbit(2.0 * i, orbit));
       grey.push_back(camera.render(poses.back()));
     }
     const std::string video_path = (c.out / "arview_bench.mp4").string();
     cv::VideoWriter video(video_path, cv::VideoWriter::fourcc('m', 'p', '4', 'v'), 30, cv::Size(cs.width, cs.height));
     if (!video.isOpened()) throw std::runtime_error("bench arview: OpenCV cannot write MPEG-4 video to " + video_path);
     const std::size_t n = std::size_t(frames);
-    rt::Window draw(n), encode(n), total(n), baseline(n), differ(n);
+    runtime::Window draw(n), encode(n), total(n), baseline(n), differ(n);
     for (int i = 0; i < frames; ++i) {
       const std::size_t b = std::size_t(i) % grey.size();
       const Clock::time_point t0 = Clock::now();
       cv::Mat img;
       cv::cvtColor(grey[b], img, cv::COLOR_GRAY2BGR);
-      render::Canvas canvas(img, k, poses[b]);
-      render::draw(view, canvas);
+      models::render::Canvas canvas(img, k, poses[b]);
+      models::render::draw(view, canvas);
       draw.add(ms_since(t0));
       const Clock::time_point t1 = Clock::now();
       video.write(img);
@@ -210,4 +210,4 @@ Suite arview_suite() {
   return s;
 }
 
-}  // namespace hcosim::cli
+}  // namespace hcosim::services::bench

@@ -1,4 +1,5 @@
-// Subcommands of the hcosim command-line tool.
+// Arguments of the hcosim tool's subcommands: positionals, --flag VALUE,
+// --switch, and the options every DDS tool shares.
 #pragma once
 
 #include <map>
@@ -6,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "security.h"
+#include "services/runtime/security.h"
 
-namespace hcosim::cli {
+namespace hcosim::services::runtime {
 
 // Parsed arguments of one subcommand: positionals, --flag VALUE, --switch.
 struct Args {
@@ -32,24 +33,10 @@ int domain_of(const Args& a);
 
 // DDS Security for a tool: --security DIR, else $HCOSIM_SECURITY, else
 // off; as --identity NAME, else "hcosim" (docs/security.md).
-rt::Security security_of(const Args& a);
+Security security_of(const Args& a);
 
 // The topics named by --topics T1,T2 (none: every topic); throws
 // std::invalid_argument naming one that is not in the contract.
 std::vector<std::string> topics_of(const Args& a);
 
-int up(const std::vector<std::string>& argv);
-int topics(const std::vector<std::string>& argv);
-int echo(const std::vector<std::string>& argv);
-int hz(const std::vector<std::string>& argv);
-int bench(const std::vector<std::string>& argv);
-int record(const std::vector<std::string>& argv);
-int track(const std::vector<std::string>& argv);
-int synth(const std::vector<std::string>& argv);
-int video(const std::vector<std::string>& argv);
-int export_recording(const std::vector<std::string>& argv);
-int replay(const std::vector<std::string>& argv);
-int security(const std::vector<std::string>& argv);
-int bench_peer(const std::vector<std::string>& argv);  // hidden: the far end of dds round trips
-
-}  // namespace hcosim::cli
+}  // namespace hcosim::services::runtime

@@ -15,14 +15,14 @@
 #include <map>
 #include <sstream>
 
-#include "bench.h"
-#include "massspring/mujoco_lattice.h"
-#include "massspring/simulator.h"
+#include "services/bench/bench.h"
+#include "models/massspring/mujoco_lattice.h"
+#include "models/massspring/simulator.h"
 
-namespace hcosim::cli {
+namespace hcosim::services::bench {
 namespace {
 
-namespace ms = hcosim::massspring;
+namespace ms = hcosim::models::massspring;
 
 constexpr double kDuration = 0.2, kPress = 0.1, kSample = 0.02;  // s
 
@@ -278,4 +278,4 @@ Suite massspring_suite() {
   return s;
 }
 
-}  // namespace hcosim::cli
+}  // namespace hcosim::services::bench

@@ -18,13 +18,13 @@
 #include <Eigen/Core>
 #include <opencv2/core/version.hpp>
 
-#include "bench.h"
-#include "render/plot.h"
-#include "vision/media.h"
+#include "services/bench/bench.h"
+#include "models/render/plot.h"
+#include "adapters/vision/media.h"
 
 namespace fs = std::filesystem;
 
-namespace hcosim::cli {
+namespace hcosim::services::bench {
 
 std::string text(double v) {
   if (std::isfinite(v) && std::abs(v) < 1e15 && v == std::round(v)) return std::to_string(std::int64_t(v));
@@ -131,11 +131,11 @@ std::vector<Figure> draw_plots(const Suite& s, const std::vector<Row>& rows, con
   std::vector<Figure> out;
   for (const Plot& p : s.plots) {
     // group -> series label -> points
-    std::map<std::string, std::map<std::string, render::Series>> groups;
+    std::map<std::string, std::map<std::string, models::render::Series>> groups;
     for (const Row& r : rows) {
       const std::optional<double> x = number(r, p.x), y = number(r, p.y);
       if (r.name != p.row || !x || !y) continue;
-      render::Series& series = groups[label(r, p.group)][label(r, p.series)];
+      models::render::Series& series = groups[label(r, p.group)][label(r, p.series)];
       series.label = label(r, p.series);
       const Value* b = param(r, p.baseline.first);
       series.baseline = b && text(*b) == p.baseline.second;
@@ -143,13 +143,13 @@ std::vector<Figure> draw_plots(const Suite& s, const std::vector<Row>& rows, con
       series.y.push_back(*y);
     }
     for (const auto& [group, by_label] : groups) {
-      std::vector<render::Series> series;
+      std::vector<models::render::Series> series;
       for (const auto& [name, points] : by_label) series.push_back(points);
       const std::string stem = std::string(s.name) + "_" + p.row + "_" + (group.empty() ? p.y : file_safe(group));
       const fs::path file = dir / (stem + ".png");
       // The axes name the quantities; the title only says which rows.
       const std::string title = std::string(s.name) + " " + p.row + (group.empty() ? "" : ", " + group);
-      vision::write_image(file.string(), render::plot_scatter(title, p.x_label, p.y_label, series, {p.log_x, p.log_y}));
+      adapters::vision::write_image(file.string(), models::render::plot_scatter(title, p.x_label, p.y_label, series, {p.log_x, p.log_y}));
       std::cout << "wrote " << file.string() << "\n";
       out.push_back({p.row, file, title + ": " + p.y_label + " against " + p.x_label});
     }
@@ -309,4 +309,4 @@ void write_index(const fs::path& dir, const std::vector<Result>& results, const 
   std::cout << "wrote " << file.string() << "\n";
 }
 
-}  // namespace hcosim::cli
+}  // namespace hcosim::services::bench

@@ -14,13 +14,13 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "bench.h"
-#include "cli.h"
-#include "json.h"
+#include "services/bench/bench.h"
+#include "services/cli/cli.h"
+#include "adapters/json.h"
 
 namespace fs = std::filesystem;
 
-namespace hcosim::cli {
+namespace hcosim::services::bench {
 namespace {
 
 const std::vector<Suite>& suites() {
@@ -30,7 +30,7 @@ const std::vector<Suite>& suites() {
 }
 
 void write_json(const fs::path& dir, const Result& r) {
-  Json j;
+  adapters::Json j;
   j.begin_object().key("suite").value(r.suite->name).key("description").value(r.suite->what).key("machine").begin_object();
   for (const auto& [k, v] : r.machine) j.key(k).value(v);
   j.end_object().key("command").value(r.command).key("seconds").value(r.seconds).key("rows").begin_array();
@@ -92,8 +92,8 @@ int report(const fs::path& dir) {
 
 }  // namespace
 
-int bench(const std::vector<std::string>& argv) {
-  const Args a = parse(argv, {"--out", "--domain"}, {"--quick"});
+int command(const std::vector<std::string>& argv) {
+  const runtime::Args a = runtime::parse(argv, {"--out", "--domain"}, {"--quick"});
   if (a.positional.size() != 1) throw std::invalid_argument("bench needs one SUITE (or 'all', 'list' or 'report')");
   const std::string which = a.positional[0];
   if (which == "list") {
@@ -114,7 +114,7 @@ int bench(const std::vector<std::string>& argv) {
   Context c;
   c.quick = a.switches.count("--quick") > 0;
   // Its own domain unless told: a benchmark must not hear a running deployment.
-  c.domain = a.has("--domain") ? domain_of(a) : 200 + int(getpid() % 30);
+  c.domain = a.has("--domain") ? runtime::domain_of(a) : 200 + int(getpid() % 30);
   c.out = dir;
   std::string command = "hcosim bench";
   for (const auto& arg : argv) command += " " + arg;
@@ -147,4 +147,4 @@ int bench(const std::vector<std::string>& argv) {
   return 0;
 }
 
-}  // namespace hcosim::cli
+}  // namespace hcosim::services::bench
