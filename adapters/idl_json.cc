@@ -117,7 +117,11 @@ void write_json(Json& j, const RigidDivergence& s) {
   j.key("stamp");
   write_json(j, s.stamp());
   j.key("position_m").value(s.position_m()).key("orientation_rad").value(s.orientation_rad());
-  j.key("velocity_m_s").value(s.velocity_m_s()).key("angular_velocity_rad_s").value(s.angular_velocity_rad_s()).end_object();
+  j.key("velocity_m_s")
+      .value(s.velocity_m_s())
+      .key("angular_velocity_rad_s")
+      .value(s.angular_velocity_rad_s())
+      .end_object();
 }
 
 void write_json(Json& j, const DeformedMesh& s) {

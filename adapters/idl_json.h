@@ -3,13 +3,13 @@
 
 #include <string>
 
+#include "adapters/json.h"
 #include "idl/clock.h"
 #include "idl/haptic.h"
 #include "idl/mesh.h"
 #include "idl/rigid.h"
 #include "idl/status.h"
 #include "idl/vision.h"
-#include "adapters/json.h"
 
 namespace hcosim::adapters {
 

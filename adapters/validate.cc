@@ -75,9 +75,8 @@ Problem check_floats(const char* field, const Seq& seq, double limit) {
 
 Problem validate(const HapticState& s) {
   return first(check(s.stamp()), check("device_time_s", s.device_time_s(), 1e9),
-               check("position", s.position(), kMaxDistanceM),
-               check("velocity", s.velocity(), kMaxSpeedMps), check("orientation", s.orientation()),
-               check("rendered_force", s.rendered_force(), kMaxForceN));
+               check("position", s.position(), kMaxDistanceM), check("velocity", s.velocity(), kMaxSpeedMps),
+               check("orientation", s.orientation()), check("rendered_force", s.rendered_force(), kMaxForceN));
 }
 
 Problem validate(const ForceFeedback& s) {
@@ -120,8 +119,8 @@ Problem validate(const CameraFrame& s) {
   const std::size_t pixels = std::size_t(s.width()) * s.height();
   if (pixels > kMaxPixels) return "image of " + std::to_string(pixels) + " pixels exceeds the limit";
   if (s.data().size() != pixels * channels)
-    return "data has " + std::to_string(s.data().size()) + " bytes, expected width*height*channels = " +
-           std::to_string(pixels * channels);
+    return "data has " + std::to_string(s.data().size()) +
+           " bytes, expected width*height*channels = " + std::to_string(pixels * channels);
   const double k[4] = {s.fx(), s.fy(), s.cx(), s.cy()};
   for (double x : k)
     if (!std::isfinite(x)) return std::string("intrinsics are not finite");
@@ -141,7 +140,8 @@ Problem validate(const RigidDivergence& s) {
   for (double x : d)
     if (!(x >= 0)) return "a divergence is " + fmt(x) + ", not a norm";
   return first(check(s.stamp()), check("position_m", s.position_m(), 2 * kMaxDistanceM),
-               check("orientation_rad", s.orientation_rad(), 4), check("velocity_m_s", s.velocity_m_s(), 2 * kMaxSpeedMps),
+               check("orientation_rad", s.orientation_rad(), 4),
+               check("velocity_m_s", s.velocity_m_s(), 2 * kMaxSpeedMps),
                check("angular_velocity_rad_s", s.angular_velocity_rad_s(), 2 * kMaxAngularRadps));
 }
 
@@ -150,7 +150,8 @@ Problem validate(const DeformedMesh& s) {
   if (s.positions().size() % 3 != 0) return std::string("positions length is not a multiple of 3");
   if (!s.normals().empty() && s.normals().size() != s.positions().size())
     return std::string("normals and positions differ in length");
-  return first(check_floats("positions", s.positions(), kMaxDistanceM), check_floats("normals", s.normals(), 1.0 + 1e-3));
+  return first(check_floats("positions", s.positions(), kMaxDistanceM),
+               check_floats("normals", s.normals(), 1.0 + 1e-3));
 }
 
 Problem validate(const MeshTopology& s) {

@@ -26,8 +26,8 @@ struct Hash {
   }
 };
 
-std::uint64_t key(const models::deformable::HybridSpec& spec, const Eigen::Matrix3Xd& cage, const std::vector<Eigen::Vector3i>& triangles,
-                  const Eigen::Matrix3Xd& points) {
+std::uint64_t key(const models::deformable::HybridSpec& spec, const Eigen::Matrix3Xd& cage,
+                  const std::vector<Eigen::Vector3i>& triangles, const Eigen::Matrix3Xd& points) {
   Hash h;
   h.value(int(spec.map));
   h.value(spec.map == models::deformable::VisualMap::mvc_sparse ? spec.keep : 1.0);

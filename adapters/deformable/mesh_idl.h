@@ -7,8 +7,8 @@
 
 #include <Eigen/Core>
 
-#include "models/deformable/object.h"
 #include "idl/mesh.h"
+#include "models/deformable/object.h"
 
 namespace hcosim::adapters::deformable {
 

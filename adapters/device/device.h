@@ -17,11 +17,11 @@
 namespace hcosim::adapters::device {
 
 struct Frame {
-  double time_s = 0;                                        // device clock, s since start
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();       // stylus tip (HIP), world frame, m
-  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();       // world frame, m/s
+  double time_s = 0;                                                // device clock, s since start
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();               // stylus tip (HIP), world frame, m
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();               // world frame, m/s
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  // stylus to world
-  std::uint32_t buttons = 0;                                // bit i: button i pressed
+  std::uint32_t buttons = 0;                                        // bit i: button i pressed
 };
 
 class Device {

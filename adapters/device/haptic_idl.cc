@@ -65,7 +65,8 @@ Feel free_feel(const Eigen::Vector3d& position, double clearance) {
 bool answer_covered(const Feel& last, std::uint64_t last_seq, const Eigen::Vector3d& hip, std::uint64_t seq,
                     double servo_dt) {
   if (last.in_contact || !(last.radius > 0) || seq < last_seq) return false;
-  return double(seq - last_seq) * servo_dt <= 0.5 * models::haptic::kFreeHorizonS && (hip - last.position).norm() < last.radius;
+  return double(seq - last_seq) * servo_dt <= 0.5 * models::haptic::kFreeHorizonS &&
+         (hip - last.position).norm() < last.radius;
 }
 
 models::haptic::LocalModel local_model(const ForceFeedback& f) {

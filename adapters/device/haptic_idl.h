@@ -7,8 +7,8 @@
 #include <Eigen/Core>
 
 #include "adapters/device/device.h"
-#include "models/haptic/local_model.h"
 #include "idl/haptic.h"
+#include "models/haptic/local_model.h"
 
 namespace hcosim::adapters::device {
 
@@ -29,8 +29,8 @@ HapticState haptic_state(const std::string& device, std::uint64_t seq, const Ste
 struct Feel {
   Eigen::Vector3d force = Eigen::Vector3d::Zero();  // N, on the stylus, world frame
   bool in_contact = false;
-  double depth = 0;      // m, >= 0: how far the HIP is inside the source
-  double stiffness = 0;  // N/m, >= 0: the contact's stiffness
+  double depth = 0;                                    // m, >= 0: how far the HIP is inside the source
+  double stiffness = 0;                                // N/m, >= 0: the contact's stiffness
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  // m, the HIP the force was computed at
   Eigen::Matrix3d jacobian = Eigen::Matrix3d::Zero();  // dF/dx, N/m
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();    // unit, out of the source; zero: none

@@ -42,7 +42,8 @@ Replay::Replay(const models::haptic::OmniSpec& spec, std::vector<Sample> traject
 }
 
 Eigen::Vector3d Replay::at(double t, std::uint32_t* buttons) const {
-  const auto next = std::upper_bound(samples_.begin(), samples_.end(), t, [](double v, const Sample& s) { return v < s.t; });
+  const auto next =
+      std::upper_bound(samples_.begin(), samples_.end(), t, [](double v, const Sample& s) { return v < s.t; });
   if (next == samples_.begin()) return *buttons = next->buttons, next->x;
   const auto prev = next - 1;
   *buttons = prev->buttons;

@@ -22,13 +22,20 @@ models::haptic::Action action(const std::string& file, const YAML::Node& item) {
   models::haptic::Action a;
   a.line = item.Mark().line + 1;
   std::vector<std::string> keys;
-  if (kind == "move_to") a.kind = K::move_to, keys = {"to", "speed"};
-  else if (kind == "press") a.kind = K::press, keys = {"depth", "force", "direction", "speed"};
-  else if (kind == "hold") a.kind = K::hold, keys = {"duration"};
-  else if (kind == "stroke") a.kind = K::stroke, keys = {"by", "speed"};
-  else if (kind == "tap") a.kind = K::tap, keys = {"depth", "duration", "direction"};
-  else if (kind == "release") a.kind = K::release, keys = {"speed"};
-  else check_keys(file, item, kinds);  // throws, with the nearest action name
+  if (kind == "move_to")
+    a.kind = K::move_to, keys = {"to", "speed"};
+  else if (kind == "press")
+    a.kind = K::press, keys = {"depth", "force", "direction", "speed"};
+  else if (kind == "hold")
+    a.kind = K::hold, keys = {"duration"};
+  else if (kind == "stroke")
+    a.kind = K::stroke, keys = {"by", "speed"};
+  else if (kind == "tap")
+    a.kind = K::tap, keys = {"depth", "duration", "direction"};
+  else if (kind == "release")
+    a.kind = K::release, keys = {"speed"};
+  else
+    check_keys(file, item, kinds);  // throws, with the nearest action name
   if (!body.IsMap()) throw config_error(file, body, "'" + kind + "' takes a map of " + join(keys));
   keys.push_back("buttons");
   check_keys(file, body, keys);

@@ -8,7 +8,8 @@ namespace {
 constexpr double kVelocityCutoffHz = 50;  // first-order filter on encoder differences
 }
 
-SimulatedOmni::SimulatedOmni(const models::haptic::OmniSpec& spec, const models::haptic::Hand& hand, models::haptic::Script script)
+SimulatedOmni::SimulatedOmni(const models::haptic::OmniSpec& spec, const models::haptic::Hand& hand,
+                             models::haptic::Script script)
     : Device(spec), hand_(hand), user_(std::move(script), 1 / spec.servo_hz), dt_(1 / spec.servo_hz) {
   tip_.x = target_ = user_.script().start;
   reported_ = models::haptic::quantize(spec, tip_.x);

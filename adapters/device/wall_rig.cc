@@ -35,7 +35,8 @@ double balance_depth(const WallRig& r) {
 }
 
 WallRun run_wall(const WallRig& r) {
-  if (!(r.delay_s >= 0) || !std::isfinite(r.delay_s)) throw std::invalid_argument("wall rig: delay must be finite and >= 0");
+  if (!(r.delay_s >= 0) || !std::isfinite(r.delay_s))
+    throw std::invalid_argument("wall rig: delay must be finite and >= 0");
   SimulatedOmni omni(r.spec, r.hand, press_script(r));
   const double dt = 1 / r.spec.servo_hz;
   models::haptic::PassivityController pc(dt, r.max_damping, r.reservoir);
@@ -43,7 +44,7 @@ WallRun run_wall(const WallRig& r) {
   std::deque<Eigen::Vector3d> line(delay_ticks, Eigen::Vector3d::Zero());
   Eigen::Vector3d applied = Eigen::Vector3d::Zero();
   WallRun out;
-  std::vector<double> held;  // tip depth during the hold
+  std::vector<double> held;         // tip depth during the hold
   constexpr std::size_t kHold = 2;  // the script's hold action
   while (!omni.finished()) {
     const bool holding = omni.user().action() == kHold;

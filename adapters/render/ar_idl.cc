@@ -16,7 +16,8 @@ models::render::Mesh mesh(const DeformedMesh& m, const MeshTopology& t) {
     throw std::invalid_argument("mesh '" + name + "' has " + std::to_string(m.positions().size() / 3) +
                                 " vertices, its topology " + std::to_string(t.vertex_count()));
   models::render::Mesh out;
-  out.vertices = Eigen::Map<const Eigen::Matrix3Xf>(m.positions().data(), 3, Eigen::Index(t.vertex_count())).cast<double>();
+  out.vertices =
+      Eigen::Map<const Eigen::Matrix3Xf>(m.positions().data(), 3, Eigen::Index(t.vertex_count())).cast<double>();
   out.triangles.assign(t.triangles().begin(), t.triangles().end());
   return out;
 }
@@ -25,7 +26,8 @@ models::render::Mesh body(const RigidBodyState& s, double size) {
   const std::string shape = s.shape().to_string();
   if (shape != "cube" && shape != "sphere")
     throw std::invalid_argument("body '" + s.body().to_string() + "' has shape '" + shape + "', not cube or sphere");
-  return models::render::placed(shape == "cube" ? models::render::cube(size) : models::render::sphere(size), adapters::vision::from_idl(s.pose()));
+  return models::render::placed(shape == "cube" ? models::render::cube(size) : models::render::sphere(size),
+                                adapters::vision::from_idl(s.pose()));
 }
 
 models::render::Stylus stylus(const HapticState& s) {

@@ -9,7 +9,8 @@
 
 namespace hcosim::adapters::rigid {
 
-RigidBodyState body_state(const std::string& name, const StepStamp& stamp, const models::rigid::Body& b, const char* backend) {
+RigidBodyState body_state(const std::string& name, const StepStamp& stamp, const models::rigid::Body& b,
+                          const char* backend) {
   RigidBodyState s;
   s.body(name);
   s.stamp(stamp);
@@ -24,7 +25,8 @@ RigidBodyState body_state(const std::string& name, const StepStamp& stamp, const
   return s;
 }
 
-RigidDivergence divergence(const std::string& name, const StepStamp& stamp, const models::rigid::Body& a, const models::rigid::Body& m) {
+RigidDivergence divergence(const std::string& name, const StepStamp& stamp, const models::rigid::Body& a,
+                           const models::rigid::Body& m) {
   RigidDivergence d;
   d.body(name);
   d.stamp(stamp);

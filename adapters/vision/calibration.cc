@@ -27,11 +27,13 @@ std::vector<double> matrix(const std::string& file, const YAML::Node& root, cons
   if (rows == 3 ? (r != 3 || c != 3) : ((r != 1 && c != 1) || n < 4 || n > max_cols))
     throw config_error(file, m["rows"],
                        rows == 3 ? "'" + key + "' must be 3x3"
-                                 : "'" + key + "' must hold 4 or 5 coefficients (k1 k2 p1 p2 [k3]); hcosim does not "
-                                               "model the rational or thin-prism terms");
+                                 : "'" + key +
+                                       "' must hold 4 or 5 coefficients (k1 k2 p1 p2 [k3]); hcosim does not "
+                                       "model the rational or thin-prism terms");
   if (int(m["data"].size()) != n)
-    throw config_error(file, m["data"], "'" + key + ".data' holds " + std::to_string(m["data"].size()) +
-                                            " numbers, rows x cols is " + std::to_string(n));
+    throw config_error(file, m["data"],
+                       "'" + key + ".data' holds " + std::to_string(m["data"].size()) + " numbers, rows x cols is " +
+                           std::to_string(n));
   std::vector<double> out;
   for (const YAML::Node& v : m["data"]) out.push_back(config_number(file, v, key + ".data"));
   return out;
@@ -55,8 +57,10 @@ models::vision::Intrinsics read_intrinsics(const std::string& path) {
     throw ConfigError(path + ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1) +
                       ": YAML syntax error: " + e.msg);
   }
-  if (!root.IsMap()) throw ConfigError(path + ": not a camera calibration (expected camera_matrix and "
-                                              "distortion_coefficients, OpenCV's calibration format)");
+  if (!root.IsMap())
+    throw ConfigError(path +
+                      ": not a camera calibration (expected camera_matrix and "
+                      "distortion_coefficients, OpenCV's calibration format)");
   if (!root["camera_matrix"]) throw ConfigError(path + ": no 'camera_matrix'");
   if (const YAML::Node model = root["distortion_model"]) {
     const std::string name = config_text(path, model, "distortion_model");
@@ -84,7 +88,8 @@ models::vision::Intrinsics read_intrinsics(const std::string& path) {
     const std::vector<double> d = matrix(path, root, "distortion_coefficients", 1, 5);
     for (std::size_t i = 0; i < d.size(); ++i) k.distortion[i] = d[i];
   }
-  if ((k.width == 0) != (k.height == 0)) throw ConfigError(path + ": give both image_width and image_height, or neither");
+  if ((k.width == 0) != (k.height == 0))
+    throw ConfigError(path + ": give both image_width and image_height, or neither");
   try {
     // Without a size, the rest is checked at any valid size.
     models::vision::Intrinsics sized = k;
@@ -104,7 +109,8 @@ void write_intrinsics(const std::string& path, const models::vision::Intrinsics&
   fs << "distortion_coefficients" << models::vision::distortion(k);
 }
 
-models::vision::Intrinsics with_frame_size(models::vision::Intrinsics k, int width, int height, const std::string& path) {
+models::vision::Intrinsics with_frame_size(models::vision::Intrinsics k, int width, int height,
+                                           const std::string& path) {
   if (k.width == 0 || k.height == 0) {
     k.width = width, k.height = height;
     check(k);

@@ -24,6 +24,7 @@ void write_intrinsics(const std::string& path, const models::vision::Intrinsics&
 // `k` for frames of width x height: unchanged when its size is known and
 // equal, given that size when it is 0; throws std::invalid_argument naming
 // `path` when the calibrated size differs (intrinsics hold for one size).
-models::vision::Intrinsics with_frame_size(models::vision::Intrinsics k, int width, int height, const std::string& path);
+models::vision::Intrinsics with_frame_size(models::vision::Intrinsics k, int width, int height,
+                                           const std::string& path);
 
 }  // namespace hcosim::adapters::vision

@@ -26,7 +26,8 @@ const MediaApi& media_module() {
 void write_image(const std::string& path, const cv::Mat& image) { media_module().write_image(path, image); }
 
 VideoOut::VideoOut(const std::string& path, const std::string& fourcc, double fps, cv::Size size) {
-  if (fourcc.size() != 4) throw std::invalid_argument("video " + path + ": a codec has four characters, not '" + fourcc + "'");
+  if (fourcc.size() != 4)
+    throw std::invalid_argument("video " + path + ": a codec has four characters, not '" + fourcc + "'");
   video_ = media_module().open_video_out(path, fourcc.c_str(), fps, size);
 }
 

@@ -66,7 +66,8 @@ class Folder : public Source {
 // A video file or a live camera, through cv::VideoCapture.
 class Capture : public Source {
  public:
-  Capture(std::string what, cv::VideoCapture cap, bool live) : what_(std::move(what)), cap_(std::move(cap)), live_(live) {}
+  Capture(std::string what, cv::VideoCapture cap, bool live)
+      : what_(std::move(what)), cap_(std::move(cap)), live_(live) {}
 
   bool next(Frame& f) override {
     f = Frame{};
@@ -174,7 +175,7 @@ void close_video_out(void* video) { delete static_cast<cv::VideoWriter*>(video);
 
 extern "C" const hcosim::adapters::vision::MediaApi* hcosim_media_api() {
   using namespace hcosim::adapters::vision;
-  static const MediaApi api{kMediaApiVersion, capture_folder,  capture_video,   capture_v4l2,
+  static const MediaApi api{kMediaApiVersion, capture_folder, capture_video,   capture_v4l2,
                             write_image,      open_video_out, write_video_out, close_video_out};
   return &api;
 }

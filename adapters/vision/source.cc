@@ -16,9 +16,13 @@ std::int64_t now_ns() {
 
 }  // namespace
 
-std::unique_ptr<Source> open_folder(const std::string& path) { return std::unique_ptr<Source>(media_module().folder(path)); }
+std::unique_ptr<Source> open_folder(const std::string& path) {
+  return std::unique_ptr<Source>(media_module().folder(path));
+}
 
-std::unique_ptr<Source> open_video(const std::string& path) { return std::unique_ptr<Source>(media_module().video(path)); }
+std::unique_ptr<Source> open_video(const std::string& path) {
+  return std::unique_ptr<Source>(media_module().video(path));
+}
 
 std::unique_ptr<Source> open_path(const std::string& path) {
   return std::filesystem::is_directory(path) ? open_folder(path) : open_video(path);
@@ -28,8 +32,9 @@ std::unique_ptr<Source> open_v4l2(const std::string& device, int width, int heig
   return std::unique_ptr<Source>(media_module().v4l2(device, width, height, fps));
 }
 
-SyntheticSource::SyntheticSource(const models::vision::SyntheticCamera& camera, const models::vision::Conditions& conditions, double rate_hz,
-                                 std::uint64_t frames, const models::vision::Orbit& path)
+SyntheticSource::SyntheticSource(const models::vision::SyntheticCamera& camera,
+                                 const models::vision::Conditions& conditions, double rate_hz, std::uint64_t frames,
+                                 const models::vision::Orbit& path)
     : camera_(camera), conditions_(conditions), rate_hz_(rate_hz), frames_(frames), path_(path) {
   if (!(rate_hz > 0 && rate_hz <= 1e4)) throw std::invalid_argument("synthetic camera: rate must be in (0, 1e4] Hz");
   models::vision::check(path);
@@ -54,6 +59,8 @@ std::string SyntheticSource::describe() const {
 
 bool SyntheticSource::rewind() { return next_ = 0, true; }
 
-Eigen::Isometry3d SyntheticSource::truth(std::uint64_t index) const { return models::vision::orbit(double(index) / rate_hz_, path_); }
+Eigen::Isometry3d SyntheticSource::truth(std::uint64_t index) const {
+  return models::vision::orbit(double(index) / rate_hz_, path_);
+}
 
 }  // namespace hcosim::adapters::vision

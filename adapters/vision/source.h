@@ -56,8 +56,8 @@ std::unique_ptr<Source> open_v4l2(const std::string& device, int width, int heig
 class SyntheticSource : public Source {
  public:
   // Throws std::invalid_argument for a rate <= 0 or a bad path.
-  SyntheticSource(const models::vision::SyntheticCamera& camera, const models::vision::Conditions& conditions, double rate_hz,
-                  std::uint64_t frames = 0, const models::vision::Orbit& path = {});
+  SyntheticSource(const models::vision::SyntheticCamera& camera, const models::vision::Conditions& conditions,
+                  double rate_hz, std::uint64_t frames = 0, const models::vision::Orbit& path = {});
   bool next(Frame& f) override;
   std::string describe() const override;
   bool rewind() override;

@@ -44,8 +44,8 @@ MarkerPose marker_pose(const std::string& camera, const std::string& family, con
   return m;
 }
 
-CameraFrame camera_frame(const std::string& camera, const StepStamp& stamp, std::uint64_t frame,
-                         const cv::Mat& image, const models::vision::Intrinsics& k) {
+CameraFrame camera_frame(const std::string& camera, const StepStamp& stamp, std::uint64_t frame, const cv::Mat& image,
+                         const models::vision::Intrinsics& k) {
   if (image.type() != CV_8UC1 && image.type() != CV_8UC3)
     throw std::invalid_argument("camera_frame: images must be 8-bit grey or BGR");
   CameraFrame f;
@@ -60,14 +60,16 @@ CameraFrame camera_frame(const std::string& camera, const StepStamp& stamp, std:
   // Rows may be padded in a cv::Mat (a region of a larger image): copy row by row.
   const std::size_t row = std::size_t(image.cols) * std::size_t(image.channels());
   f.data().resize(row * std::size_t(image.rows));
-  for (int r = 0; r < image.rows; ++r) std::copy_n(image.ptr<std::uint8_t>(r), row, f.data().data() + row * std::size_t(r));
+  for (int r = 0; r < image.rows; ++r)
+    std::copy_n(image.ptr<std::uint8_t>(r), row, f.data().data() + row * std::size_t(r));
   return f;
 }
 
 cv::Mat bgr_image(const CameraFrame& f) {
   if (auto problem = validate(f)) throw std::invalid_argument("camera frame: " + *problem);
   const bool mono = f.encoding().to_string() == "mono8";
-  const cv::Mat wrapped(int(f.height()), int(f.width()), mono ? CV_8UC1 : CV_8UC3, const_cast<std::uint8_t*>(f.data().data()));
+  const cv::Mat wrapped(int(f.height()), int(f.width()), mono ? CV_8UC1 : CV_8UC3,
+                        const_cast<std::uint8_t*>(f.data().data()));
   cv::Mat bgr;
   if (mono)
     cv::cvtColor(wrapped, bgr, cv::COLOR_GRAY2BGR);

@@ -25,8 +25,8 @@ MarkerPose marker_pose(const std::string& camera, const std::string& family, con
 
 // A CV_8UC1 (mono8) or CV_8UC3 (bgr8) image with its intrinsics. Throws
 // std::invalid_argument for another type.
-CameraFrame camera_frame(const std::string& camera, const StepStamp& stamp, std::uint64_t frame,
-                         const cv::Mat& image, const models::vision::Intrinsics& k);
+CameraFrame camera_frame(const std::string& camera, const StepStamp& stamp, std::uint64_t frame, const cv::Mat& image,
+                         const models::vision::Intrinsics& k);
 
 // A frame's pixels as 8-bit BGR (mono8 converted) and its intrinsics.
 // Throws std::invalid_argument for a frame validate() would refuse.

@@ -19,8 +19,8 @@ const char* name(Shape shape);
 
 struct SurfaceSpec {
   Shape shape = Shape::sheet;
-  int resolution = 21;   // sheet: masses per edge; semi-sphere: latitude rings (4 x as many segments)
-  double size = 0.1;     // m: sheet edge, or semi-sphere radius
+  int resolution = 21;  // sheet: masses per edge; semi-sphere: latitude rings (4 x as many segments)
+  double size = 0.1;    // m: sheet edge, or semi-sphere radius
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // m, world: sheet centre, or semi-sphere base centre
   models::massspring::Material material{1e-3, 20, 0.02, 0.01};
   // Sheet: its springs' rest lengths are (1 - prestretch) times their

@@ -24,9 +24,12 @@ Eigen::Vector3d corner(const HybridSpec& s) { return s.centre - Eigen::Vector3d:
 
 const char* name(VisualMap m) {
   switch (m) {
-    case VisualMap::mvc: return "mvc";
-    case VisualMap::mvc_sparse: return "mvc_sparse";
-    case VisualMap::trilinear: return "trilinear";
+    case VisualMap::mvc:
+      return "mvc";
+    case VisualMap::mvc_sparse:
+      return "mvc_sparse";
+    case VisualMap::trilinear:
+      return "trilinear";
   }
   return "?";
 }

@@ -26,15 +26,15 @@ const char* name(VisualMap map);
 VisualMap parse_visual_map(const std::string& name);  // throws std::invalid_argument listing the names
 
 struct HybridSpec {
-  int elements = 10;                                         // chains and masses per edge (10: 001 Fig 7's 1000)
-  double size = 0.1;                                         // m, cube edge
-  Eigen::Vector3d centre = Eigen::Vector3d(0, 0, 0.05);      // m, world; the bottom face is anchored
+  int elements = 10;                                     // chains and masses per edge (10: 001 Fig 7's 1000)
+  double size = 0.1;                                     // m, cube edge
+  Eigen::Vector3d centre = Eigen::Vector3d(0, 0, 0.05);  // m, world; the bottom face is anchored
   // Haptic model: K and ranges fitted to the behavior model's static force
   // over 1 to 5 mm of depth (docs/deformable.md, force_vs_behavior).
   ChainMaterial chain{35, 0.3, 0.3, 0.6};
-  double relax_rate = 50;                                    // 1/s, S-Chain relaxation
-  double limit_stiffness = 1000;                             // N/m, past full compression
-  models::massspring::Material material{1e-3, 50, 0.02, 0.01};       // behavior model, per mass and spring
+  double relax_rate = 50;                                       // 1/s, S-Chain relaxation
+  double limit_stiffness = 1000;                                // N/m, past full compression
+  models::massspring::Material material{1e-3, 50, 0.02, 0.01};  // behavior model, per mass and spring
   models::massspring::Options behavior = [] {
     models::massspring::Options o;
     o.integrator = models::massspring::Integrator::symplectic_euler;
@@ -47,7 +47,7 @@ struct HybridSpec {
   int visual_subdivisions = 30;  // 6 s^2 + 2 vertices, 12 s^2 triangles (30: 5402 and 10800)
   double visual_exponent = 8;    // rounding of the visual box's edges (rounded_box)
   VisualMap map = VisualMap::mvc_sparse;
-  double keep = 0.999;           // mvc_sparse: share of each row's weight kept
+  double keep = 0.999;  // mvc_sparse: share of each row's weight kept
   // m: cage motions below this are not mapped (apply_moved); 10 um is a
   // hundredth of a pixel for a 600 px focal length at 0.5 m.
   double visual_tolerance = 1e-5;
@@ -108,7 +108,7 @@ class Hybrid final : public Object {
   const models::massspring::TriangleMesh& visual_rest() const { return visual_; }
   const Weights& map() const { return weights_; }
   const std::vector<int>& cage_masses() const { return cage_; }  // masses the map reads, in its column order
-  int simulated() const { return simulated_; }  // masses the last behavior step integrated
+  int simulated() const { return simulated_; }                   // masses the last behavior step integrated
 
  private:
   HybridSpec spec_;
@@ -118,11 +118,11 @@ class Hybrid final : public Object {
   models::massspring::TriangleMesh visual_;
   std::vector<int> cage_;  // masses whose positions the map reads, in its column order
   Weights weights_;
-  ColumnWeights columns_;  // weights_ by columns, for apply_moved
+  ColumnWeights columns_;    // weights_ by columns, for apply_moved
   Eigen::Vector3d lo_, hi_;  // m, the rest box
   int contact_ = -1;
   Eigen::Vector3d normal_ = Eigen::Vector3d::UnitZ();  // outward normal of the face entered
-  std::vector<int> held_;  // masses held last step
+  std::vector<int> held_;                              // masses held last step
   int simulated_ = 0;
 };
 

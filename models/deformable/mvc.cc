@@ -71,7 +71,8 @@ void point_weights(const Eigen::Matrix3Xd& p, const std::vector<Eigen::Vector3i>
     const double sign = det < 0 ? -1 : 1;
     bool coplanar = false;
     for (int i = 0; i < 3; ++i) {
-      c[i] = 2 * std::sin(h) * std::sin(h - theta[i]) / (std::sin(theta[(i + 1) % 3]) * std::sin(theta[(i + 2) % 3])) - 1;
+      c[i] =
+          2 * std::sin(h) * std::sin(h - theta[i]) / (std::sin(theta[(i + 1) % 3]) * std::sin(theta[(i + 2) % 3])) - 1;
       s[i] = sign * std::sqrt(std::max(0.0, 1 - c[i] * c[i]));
       coplanar = coplanar || std::abs(s[i]) <= kEps;
     }
@@ -117,8 +118,10 @@ Weights truncate(const Weights& w, double keep) {
   for (int r = 0; r < w.outerSize(); ++r) {
     row.clear();
     double total = 0;
-    for (Weights::InnerIterator it(w, r); it; ++it) row.emplace_back(it.value(), int(it.col())), total += std::abs(it.value());
-    std::sort(row.begin(), row.end(), [](const auto& a, const auto& b) { return std::abs(a.first) > std::abs(b.first); });
+    for (Weights::InnerIterator it(w, r); it; ++it)
+      row.emplace_back(it.value(), int(it.col())), total += std::abs(it.value());
+    std::sort(row.begin(), row.end(),
+              [](const auto& a, const auto& b) { return std::abs(a.first) > std::abs(b.first); });
     double kept = 0, sum = 0;
     std::size_t k = 0;
     while (k < row.size() && kept < keep * total) kept += std::abs(row[k].first), sum += row[k].first, ++k;
@@ -136,7 +139,8 @@ Weights trilinear_weights(int nx, int ny, int nz, double spacing, const Eigen::V
   const int dims[3] = {nx, ny, nz};
   std::vector<Eigen::Triplet<double>> trip;
   for (int m = 0; m < int(points.cols()); ++m) {
-    if (!points.col(m).allFinite()) throw std::invalid_argument("trilinear: point " + std::to_string(m) + " is not finite");
+    if (!points.col(m).allFinite())
+      throw std::invalid_argument("trilinear: point " + std::to_string(m) + " is not finite");
     const Eigen::Vector3d g = (points.col(m) - origin) / spacing;
     int cell[3];
     double f[3];
@@ -157,16 +161,18 @@ Weights trilinear_weights(int nx, int ny, int nz, double spacing, const Eigen::V
 }
 
 Eigen::Matrix3Xd apply(const Weights& w, const Eigen::Matrix3Xd& x) {
-  if (x.cols() != w.cols()) throw std::invalid_argument("mvc: weights for " + std::to_string(w.cols()) + " cage vertices, got " + std::to_string(x.cols()));
+  if (x.cols() != w.cols())
+    throw std::invalid_argument("mvc: weights for " + std::to_string(w.cols()) + " cage vertices, got " +
+                                std::to_string(x.cols()));
   return (w * x.transpose()).transpose();
 }
 
 Eigen::Matrix3Xd apply_moved(const ColumnWeights& w, const Eigen::Matrix3Xd& rest_points, const Eigen::Matrix3Xd& u,
                              double tolerance) {
   if (u.cols() != w.cols() || rest_points.cols() != w.rows())
-    throw std::invalid_argument("mvc: weights are " + std::to_string(w.rows()) + " x " + std::to_string(w.cols()) + ", got " +
-                                std::to_string(rest_points.cols()) + " points and " + std::to_string(u.cols()) +
-                                " displacements");
+    throw std::invalid_argument("mvc: weights are " + std::to_string(w.rows()) + " x " + std::to_string(w.cols()) +
+                                ", got " + std::to_string(rest_points.cols()) + " points and " +
+                                std::to_string(u.cols()) + " displacements");
   Eigen::Matrix3Xd out = rest_points;
   double* o = out.data();
   for (int j = 0; j < int(w.outerSize()); ++j) {

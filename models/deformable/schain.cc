@@ -15,7 +15,8 @@ void need(bool ok, const std::string& what) {
 
 void check(const ChainMaterial& m) {
   need(m.stiffness > 0 && std::isfinite(m.stiffness), "stiffness must be finite and > 0");
-  for (double r : {m.stretch, m.compress, m.shear}) need(r > 0 && r < 1, "stretch, compress and shear must be in (0, 1)");
+  for (double r : {m.stretch, m.compress, m.shear})
+    need(r > 0 && r < 1, "stretch, compress and shear must be in (0, 1)");
 }
 
 }  // namespace

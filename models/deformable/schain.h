@@ -31,10 +31,10 @@ struct ChainMaterial {
 
 struct ChainLattice {
   int nx = 0, ny = 0, nz = 0;
-  double spacing = 0.01;                            // m
+  double spacing = 0.01;                             // m
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // element (0, 0, 0), world frame, m
-  std::vector<ChainMaterial> material;              // one per element, index i + nx (j + ny k)
-  std::vector<std::uint8_t> anchored;               // 1: never moves
+  std::vector<ChainMaterial> material;               // one per element, index i + nx (j + ny k)
+  std::vector<std::uint8_t> anchored;                // 1: never moves
 
   int size() const { return nx * ny * nz; }
   int index(int i, int j, int k) const { return i + nx * (j + ny * k); }
@@ -89,11 +89,11 @@ class SChain {
   ChainLattice lat_;
   double relax_rate_, limit_stiffness_;
   Eigen::Vector3d gap_ = Eigen::Vector3d::Zero();  // m, target minus where the contact could go
-  std::vector<Eigen::Vector3d> u_;      // displacement from rest, m
-  std::vector<int> moved_;             // elements with u != 0
-  std::vector<std::uint8_t> in_moved_;  // 1 while in moved_
-  std::vector<std::uint32_t> visit_;    // stamp of the last propagation that reached it
-  std::vector<std::uint8_t> queued_;    // 1 while waiting in queue_
+  std::vector<Eigen::Vector3d> u_;                 // displacement from rest, m
+  std::vector<int> moved_;                         // elements with u != 0
+  std::vector<std::uint8_t> in_moved_;             // 1 while in moved_
+  std::vector<std::uint32_t> visit_;               // stamp of the last propagation that reached it
+  std::vector<std::uint8_t> queued_;               // 1 while waiting in queue_
   std::uint32_t stamp_ = 0;
   std::vector<int> queue_;
   std::vector<std::pair<int, Eigen::Vector3d>> undo_;

@@ -39,9 +39,10 @@ GridSurface grid_surface(int nx, int ny, int nz) {
 }
 
 models::massspring::TriangleMesh rounded_box(int subdivisions, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
-                                     double exponent) {
+                                             double exponent) {
   if (subdivisions < 1) throw std::invalid_argument("rounded_box: subdivisions must be >= 1");
-  if (!(exponent >= 2) || !std::isfinite(exponent)) throw std::invalid_argument("rounded_box: exponent must be finite and >= 2");
+  if (!(exponent >= 2) || !std::isfinite(exponent))
+    throw std::invalid_argument("rounded_box: exponent must be finite and >= 2");
   if (!(hi.array() > lo.array()).all() || !lo.allFinite() || !hi.allFinite())
     throw std::invalid_argument("rounded_box: hi must exceed lo on every axis");
   const int k = subdivisions + 1;
@@ -53,8 +54,8 @@ models::massspring::TriangleMesh rounded_box(int subdivisions, const Eigen::Vect
   for (std::size_t v = 0; v < g.nodes.size(); ++v) {
     const int node = g.nodes[v];
     // The grid node on the cube [-1, 1]^3, pushed radially onto the surface.
-    const Eigen::Vector3d q = Eigen::Vector3d(node % k, (node / k) % k, node / (k * k)) * (2.0 / subdivisions) -
-                              Eigen::Vector3d::Ones();
+    const Eigen::Vector3d q =
+        Eigen::Vector3d(node % k, (node / k) % k, node / (k * k)) * (2.0 / subdivisions) - Eigen::Vector3d::Ones();
     const double r = std::pow(q.cwiseAbs().array().pow(exponent).sum(), 1 / exponent);
     m.vertices.col(v) = centre + half.cwiseProduct(q / r);
   }
@@ -70,8 +71,10 @@ Eigen::Matrix3Xd vertex_normals(const Eigen::Matrix3Xd& x, const std::vector<Eig
   }
   for (int v = 0; v < n.cols(); ++v) {
     const double len = n.col(v).norm();
-    if (len > 0 && std::isfinite(len)) n.col(v) /= len;
-    else n.col(v) = Eigen::Vector3d::UnitZ();
+    if (len > 0 && std::isfinite(len))
+      n.col(v) /= len;
+    else
+      n.col(v) = Eigen::Vector3d::UnitZ();
   }
   return n;
 }

@@ -29,7 +29,7 @@ GridSurface grid_surface(int nx, int ny, int nz);
 // 12 s^2 triangles. Its face centres touch the box. Throws
 // std::invalid_argument for subdivisions < 1, exponent < 2 or an empty box.
 models::massspring::TriangleMesh rounded_box(int subdivisions, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
-                                     double exponent);
+                                             double exponent);
 
 // Unit area-weighted vertex normals of a triangle mesh at positions x; a
 // vertex whose triangles all collapsed gets +z rather than NaN.

@@ -6,7 +6,8 @@
 namespace hcosim::models::haptic {
 
 ForceSum::ForceSum(double timeout_s) : timeout_(timeout_s) {
-  if (!(timeout_s > 0) || !std::isfinite(timeout_s)) throw std::invalid_argument("force sum: timeout must be finite and > 0");
+  if (!(timeout_s > 0) || !std::isfinite(timeout_s))
+    throw std::invalid_argument("force sum: timeout must be finite and > 0");
 }
 
 void ForceSum::set(const std::string& source, const LocalModel& model, double t) { latest_[source] = {model, t}; }

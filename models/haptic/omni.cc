@@ -9,7 +9,8 @@ namespace hcosim::models::haptic {
 
 void check(const OmniSpec& s) {
   auto need = [](double v, const char* what) {
-    if (!(v > 0) || !std::isfinite(v)) throw std::invalid_argument(std::string("omni: ") + what + " must be finite and > 0");
+    if (!(v > 0) || !std::isfinite(v))
+      throw std::invalid_argument(std::string("omni: ") + what + " must be finite and > 0");
   };
   if (!s.centre.allFinite()) throw std::invalid_argument("omni: centre must be finite");
   for (int i = 0; i < 3; ++i) need(s.workspace[i], "workspace");

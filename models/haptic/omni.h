@@ -9,15 +9,15 @@ namespace hcosim::models::haptic {
 // Published characteristics of the SensAble / 3D Systems PHANToM Omni
 // (Touch). The workspace is a box centred on `centre` (world frame).
 struct OmniSpec {
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();          // m, world frame
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();                  // m, world frame
   Eigen::Vector3d workspace = Eigen::Vector3d(0.160, 0.120, 0.070);  // m, full extent
-  double max_force = 3.3;         // N, peak
-  double continuous_force = 0.88; // N, sustained
-  double resolution = 0.055e-3;   // m, position encoder step
-  double max_stiffness = 1000;    // N/m, upper end of the nominal 0.5-1 N/mm
-  double servo_hz = 1000;         // Hz
-  double tip_mass = 0.045;        // kg, apparent mass at the tip
-  double tip_damping = 0.05;      // N s/m, back-drive viscous friction
+  double max_force = 3.3;                                            // N, peak
+  double continuous_force = 0.88;                                    // N, sustained
+  double resolution = 0.055e-3;                                      // m, position encoder step
+  double max_stiffness = 1000;                                       // N/m, upper end of the nominal 0.5-1 N/mm
+  double servo_hz = 1000;                                            // Hz
+  double tip_mass = 0.045;                                           // kg, apparent mass at the tip
+  double tip_damping = 0.05;                                         // N s/m, back-drive viscous friction
 };
 
 // Throws std::invalid_argument naming the first non-positive or non-finite field.

@@ -8,12 +8,18 @@ namespace hcosim::models::haptic {
 
 const char* name(Action::Kind k) {
   switch (k) {
-    case Action::Kind::move_to: return "move_to";
-    case Action::Kind::press: return "press";
-    case Action::Kind::hold: return "hold";
-    case Action::Kind::stroke: return "stroke";
-    case Action::Kind::tap: return "tap";
-    case Action::Kind::release: return "release";
+    case Action::Kind::move_to:
+      return "move_to";
+    case Action::Kind::press:
+      return "press";
+    case Action::Kind::hold:
+      return "hold";
+    case Action::Kind::stroke:
+      return "stroke";
+    case Action::Kind::tap:
+      return "tap";
+    case Action::Kind::release:
+      return "release";
   }
   return "?";
 }
@@ -72,15 +78,25 @@ Eigen::Vector3d VirtualUser::next(const Eigen::Vector3d& rendered) {
   };
   bool finished = false;
   switch (a.kind) {
-    case Action::Kind::move_to: finished = travel(a.to); break;
-    case Action::Kind::stroke: finished = travel(from_ + a.to); break;
-    case Action::Kind::release: finished = travel(press_origin_); break;
-    case Action::Kind::hold: finished = elapsed_ >= a.duration - 1e-12; break;
+    case Action::Kind::move_to:
+      finished = travel(a.to);
+      break;
+    case Action::Kind::stroke:
+      finished = travel(from_ + a.to);
+      break;
+    case Action::Kind::release:
+      finished = travel(press_origin_);
+      break;
+    case Action::Kind::hold:
+      finished = elapsed_ >= a.duration - 1e-12;
+      break;
     case Action::Kind::press:
       if (a.force > 0) {
         // Deeper until the object pushes back with the asked force.
-        if (-rendered.dot(a.direction) >= a.force || a.speed * elapsed_ > kMaxPressTravel) finished = true;
-        else target_ = from_ + a.direction * (a.speed * elapsed_);
+        if (-rendered.dot(a.direction) >= a.force || a.speed * elapsed_ > kMaxPressTravel)
+          finished = true;
+        else
+          target_ = from_ + a.direction * (a.speed * elapsed_);
       } else {
         finished = travel(from_ + a.direction * a.depth);
       }

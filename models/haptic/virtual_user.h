@@ -15,15 +15,15 @@ namespace hcosim::models::haptic {
 struct Action {
   enum class Kind { move_to, press, hold, stroke, tap, release };
   Kind kind = Kind::hold;
-  Eigen::Vector3d to = Eigen::Vector3d::Zero();          // move_to: world m; stroke: offset, m
-  Eigen::Vector3d direction = -Eigen::Vector3d::UnitZ(); // press, tap: unit, into the object
-  double depth = 0;     // press, tap: m the target travels along direction (press: 0 = go by force)
-  double force = 0;     // press: N; stops when the rendered force against direction reaches it,
-                        // or after kMaxPressTravel if nothing pushes back
-  double speed = 0.02;  // move_to, press, stroke, release: m/s
-  double duration = 0;  // hold, tap: s
-  unsigned buttons = 0; // bit i: button i held while the action runs (button 0 grabs a deformable object)
-  int line = 0;         // script line, for messages
+  Eigen::Vector3d to = Eigen::Vector3d::Zero();           // move_to: world m; stroke: offset, m
+  Eigen::Vector3d direction = -Eigen::Vector3d::UnitZ();  // press, tap: unit, into the object
+  double depth = 0;      // press, tap: m the target travels along direction (press: 0 = go by force)
+  double force = 0;      // press: N; stops when the rendered force against direction reaches it,
+                         // or after kMaxPressTravel if nothing pushes back
+  double speed = 0.02;   // move_to, press, stroke, release: m/s
+  double duration = 0;   // hold, tap: s
+  unsigned buttons = 0;  // bit i: button i held while the action runs (button 0 grabs a deformable object)
+  int line = 0;          // script line, for messages
 };
 
 inline constexpr double kMaxPressTravel = 0.2;  // m
@@ -64,10 +64,10 @@ class VirtualUser {
   double dt_;
   std::size_t index_ = 0;
   unsigned buttons_ = 0;
-  double elapsed_ = 0;                 // s in the running action
+  double elapsed_ = 0;  // s in the running action
   Eigen::Vector3d target_;
-  Eigen::Vector3d from_;               // target when the running action began
-  Eigen::Vector3d press_origin_;       // target when the last press or tap began
+  Eigen::Vector3d from_;          // target when the running action began
+  Eigen::Vector3d press_origin_;  // target when the last press or tap began
 };
 
 }  // namespace hcosim::models::haptic

@@ -8,10 +8,10 @@ namespace hcosim::models::haptic {
 
 // The half-space behind a plane through `point` with outward unit `normal`.
 struct Wall {
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();      // m, world frame
-  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();    // unit, pointing out of the wall
-  double stiffness = 1000;                              // N/m
-  double damping = 0;                                   // N s/m, only while in contact
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();    // m, world frame
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // unit, pointing out of the wall
+  double stiffness = 1000;                            // N/m
+  double damping = 0;                                 // N s/m, only while in contact
 };
 
 // Penalty force on the stylus at x moving at v: k d n - b (v . n) n while

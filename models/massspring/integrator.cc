@@ -8,11 +8,16 @@ namespace hcosim::models::massspring {
 
 const char* name(Integrator i) {
   switch (i) {
-    case Integrator::symplectic_euler: return "symplectic_euler";
-    case Integrator::velocity_verlet: return "velocity_verlet";
-    case Integrator::rk4: return "rk4";
-    case Integrator::implicit_euler: return "implicit_euler";
-    case Integrator::local_global: return "local_global";
+    case Integrator::symplectic_euler:
+      return "symplectic_euler";
+    case Integrator::velocity_verlet:
+      return "velocity_verlet";
+    case Integrator::rk4:
+      return "rk4";
+    case Integrator::implicit_euler:
+      return "implicit_euler";
+    case Integrator::local_global:
+      return "local_global";
   }
   return "?";
 }

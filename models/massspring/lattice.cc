@@ -44,7 +44,8 @@ void check(const Lattice& l) {
   if (!l.gravity.allFinite()) bad("gravity contains NaN or Inf");
   for (std::size_t s = 0; s < l.springs.size(); ++s) {
     const Spring& sp = l.springs[s];
-    const std::string name = "spring " + std::to_string(s) + " (" + std::to_string(sp.i) + "-" + std::to_string(sp.j) + ")";
+    const std::string name =
+        "spring " + std::to_string(s) + " (" + std::to_string(sp.i) + "-" + std::to_string(sp.j) + ")";
     if (sp.i < 0 || sp.j < 0 || sp.i >= n || sp.j >= n) bad(name + " joins a mass outside 0.." + std::to_string(n - 1));
     if (sp.i == sp.j) bad(name + " joins a mass to itself");
     if (!(sp.rest >= 0) || !(sp.k >= 0) || !(sp.b >= 0) || !std::isfinite(sp.rest + sp.k + sp.b))

@@ -22,11 +22,11 @@ struct Spring {
 // The behavior model's elements. Per-element mass, stiffness and damping may
 // differ (001 Fig 8); builders make them homogeneous.
 struct Lattice {
-  Eigen::Matrix3Xd rest;               // m, rest position of each mass
-  Eigen::VectorXd mass;                // kg, > 0
+  Eigen::Matrix3Xd rest;  // m, rest position of each mass
+  Eigen::VectorXd mass;   // kg, > 0
   std::vector<Spring> springs;
-  std::vector<std::uint8_t> anchored;  // 1: held at its rest position
-  double drag = 0;                     // N s/m per mass: air friction D v_i (000 eq 13)
+  std::vector<std::uint8_t> anchored;                 // 1: held at its rest position
+  double drag = 0;                                    // N s/m per mass: air friction D v_i (000 eq 13)
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  // m/s^2
 
   int size() const { return int(mass.size()); }

@@ -125,14 +125,16 @@ void check_closed(const TriangleMesh& mesh) {
 }
 
 Lattice make_from_mesh(TriangleMesh mesh, double spacing, const Material& m, Shear shear) {
-  if (!(spacing > 0) || !std::isfinite(spacing)) throw std::invalid_argument("mesh lattice: spacing must be finite and > 0");
+  if (!(spacing > 0) || !std::isfinite(spacing))
+    throw std::invalid_argument("mesh lattice: spacing must be finite and > 0");
   const Eigen::Vector3d lo = mesh.vertices.rowwise().minCoeff(), hi = mesh.vertices.rowwise().maxCoeff();
   weld(mesh, 1e-9 * std::max(1.0, (hi - lo).norm()));
   check_closed(mesh);
   const Eigen::Array3i cells = ((hi - lo) / spacing).array().ceil().cast<int>().max(1);
   const long total = long(cells[0]) * cells[1] * cells[2];
-  if (total > 50'000'000) throw std::invalid_argument("mesh lattice: spacing " + std::to_string(spacing) + " m gives " +
-                                                      std::to_string(total) + " cells; use a coarser spacing");
+  if (total > 50'000'000)
+    throw std::invalid_argument("mesh lattice: spacing " + std::to_string(spacing) + " m gives " +
+                                std::to_string(total) + " cells; use a coarser spacing");
   // Inside test by parity along +x through each row of cell centres. The
   // ray is nudged by irrational fractions of a cell so it misses edges.
   std::vector<std::uint8_t> inside(total, 0);
@@ -140,7 +142,8 @@ Lattice make_from_mesh(TriangleMesh mesh, double spacing, const Material& m, She
   std::vector<double> hits;
   for (int k = 0; k < cells[2]; ++k)
     for (int j = 0; j < cells[1]; ++j) {
-      const double y = lo.y() + (j + 0.5 + 1.3e-7 * M_SQRT2) * spacing, z = lo.z() + (k + 0.5 + 1.1e-7 * M_PI) * spacing;
+      const double y = lo.y() + (j + 0.5 + 1.3e-7 * M_SQRT2) * spacing,
+                   z = lo.z() + (k + 0.5 + 1.1e-7 * M_PI) * spacing;
       hits.clear();
       for (const auto& t : mesh.triangles) {
         const Eigen::Vector3d a = mesh.vertices.col(t[0]), b = mesh.vertices.col(t[1]), c = mesh.vertices.col(t[2]);
@@ -180,9 +183,11 @@ Lattice make_from_mesh(TriangleMesh mesh, double spacing, const Material& m, She
       for (int i = 0; i < cells[0]; ++i) {
         if (!inside[cell_id(i, j, k)]) continue;
         int c[2][2][2];
-        for (int a = 0; a < 8; ++a) c[a & 1][(a >> 1) & 1][a >> 2] = mass_at(i + (a & 1), j + ((a >> 1) & 1), k + (a >> 2));
+        for (int a = 0; a < 8; ++a)
+          c[a & 1][(a >> 1) & 1][a >> 2] = mass_at(i + (a & 1), j + ((a >> 1) & 1), k + (a >> 2));
         for (int p = 0; p < 2; ++p)
-          for (int q = 0; q < 2; ++q) link(c[0][p][q], c[1][p][q]), link(c[p][0][q], c[p][1][q]), link(c[p][q][0], c[p][q][1]);
+          for (int q = 0; q < 2; ++q)
+            link(c[0][p][q], c[1][p][q]), link(c[p][0][q], c[p][1][q]), link(c[p][q][0], c[p][q][1]);
         // Six faces; the diagonal choice follows the face corner's parity
         // so that neighbouring cells agree on a shared face.
         auto face = [&](int a00, int a10, int a01, int a11, int parity) {
@@ -195,8 +200,9 @@ Lattice make_from_mesh(TriangleMesh mesh, double spacing, const Material& m, She
           face(c[s][0][0], c[s][1][0], c[s][0][1], c[s][1][1], i + j + k + s);
         }
       }
-  if (pos.empty()) throw std::invalid_argument("mesh lattice: no cell of spacing " + std::to_string(spacing) +
-                                               " m lies inside the mesh; use a finer spacing");
+  if (pos.empty())
+    throw std::invalid_argument("mesh lattice: no cell of spacing " + std::to_string(spacing) +
+                                " m lies inside the mesh; use a finer spacing");
   l.rest.resize(3, pos.size());
   for (std::size_t i = 0; i < pos.size(); ++i) l.rest.col(i) = pos[i];
   l.mass.setConstant(pos.size(), m.mass);

@@ -12,7 +12,7 @@
 namespace hcosim::models::massspring {
 
 struct TriangleMesh {
-  Eigen::Matrix3Xd vertices;             // m
+  Eigen::Matrix3Xd vertices;               // m
   std::vector<Eigen::Vector3i> triangles;  // counter-clockwise seen from outside
 };
 

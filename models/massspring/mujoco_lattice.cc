@@ -53,13 +53,14 @@ std::string MujocoLattice::xml(const Lattice& l, double dt, const std::string& i
   }
   o << "</worldbody>\n<tendon>\n";
   for (const Spring& s : l.springs)
-    o << "<spatial stiffness=\"" << s.k << "\" damping=\"" << s.b << "\" springlength=\"" << s.rest << "\"><site site=\"s"
-      << s.i << "\"/><site site=\"s" << s.j << "\"/></spatial>\n";
+    o << "<spatial stiffness=\"" << s.k << "\" damping=\"" << s.b << "\" springlength=\"" << s.rest
+      << "\"><site site=\"s" << s.i << "\"/><site site=\"s" << s.j << "\"/></spatial>\n";
   o << "</tendon>\n</mujoco>\n";
   return o.str();
 }
 
-MujocoLattice::MujocoLattice(const Lattice& l, double dt, const std::string& integrator) : impl_(std::make_unique<Impl>()) {
+MujocoLattice::MujocoLattice(const Lattice& l, double dt, const std::string& integrator)
+    : impl_(std::make_unique<Impl>()) {
   check(l);
   if (integrator != "Euler" && integrator != "RK4")
     throw std::invalid_argument("mujoco lattice: integrator must be Euler or RK4, got '" + integrator + "'");
@@ -88,8 +89,9 @@ void MujocoLattice::step(const std::vector<PointForce>& loads) {
   mj_step(impl_->model, d);
   for (int w = 0; w < mjNWARNING; ++w)
     if (d->warning[w].number > 0)
-      throw std::runtime_error(std::string("mujoco lattice: MuJoCo warning '") + mju_warningText(w, d->warning[w].lastinfo) +
-                               "' at t = " + std::to_string(d->time) + " s");
+      throw std::runtime_error(std::string("mujoco lattice: MuJoCo warning '") +
+                               mju_warningText(w, d->warning[w].lastinfo) + "' at t = " + std::to_string(d->time) +
+                               " s");
 }
 
 Eigen::Matrix3Xd MujocoLattice::positions() const {

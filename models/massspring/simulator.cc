@@ -13,10 +13,10 @@ namespace hcosim::models::massspring {
 
 // Index of a lattice: for every mass, its springs and the mass at their other end.
 struct Adjacency {
-  std::vector<int> start;   // n + 1 offsets into spring / other
-  std::vector<int> spring;  // incident spring indices
-  std::vector<int> other;   // the other end of each
-  std::vector<double> sign; // +1 where the mass is the spring's first end, else -1
+  std::vector<int> start;    // n + 1 offsets into spring / other
+  std::vector<int> spring;   // incident spring indices
+  std::vector<int> other;    // the other end of each
+  std::vector<double> sign;  // +1 where the mass is the spring's first end, else -1
 
   explicit Adjacency(const Lattice& l) : start(l.size() + 1, 0) {
     for (const Spring& s : l.springs) ++start[s.i + 1], ++start[s.j + 1];
@@ -41,10 +41,10 @@ struct Simulator::Impl {
   double stable = 0;
   int substeps = 1;
   bool adaptive = false;
-  bool dampers = false;             // whether any spring has b > 0
-  std::vector<double> inv_mass;     // 1/kg, 0 for anchored and held masses
+  bool dampers = false;                      // whether any spring has b > 0
+  std::vector<double> inv_mass;              // 1/kg, 0 for anchored and held masses
   std::vector<std::uint8_t> anchored, held;  // the lattice's own anchors; held by the caller
-  std::vector<double> decay, half;  // exact drag decay over a substep and half of one
+  std::vector<double> decay, half;           // exact drag decay over a substep and half of one
 
   // The simulated set, kept up to date as masses activate and retire
   // rather than rebuilt each step: active masses, every free mass within
@@ -60,11 +60,11 @@ struct Simulator::Impl {
   std::vector<PointForce> loads;          // this step's loads on simulated masses
 
   Eigen::Matrix3Xd f, x0, v0, sx, sv;  // scratch, 3 x n; f of masses outside the set is unused
-  Eigen::Matrix3Xd bx, bv;                // the step's starting point, per simulated mass
-  Eigen::VectorXd elastic;                // J, half the elastic energy of each mass's springs
-  bool elastic_fresh = false;             // whether the last force pass filled `elastic`
-  Eigen::Matrix3Xd spring_force;          // N, per spring, on its first end
-  Eigen::VectorXd spring_elastic;         // J, a quarter of each spring's energy
+  Eigen::Matrix3Xd bx, bv;             // the step's starting point, per simulated mass
+  Eigen::VectorXd elastic;             // J, half the elastic energy of each mass's springs
+  bool elastic_fresh = false;          // whether the last force pass filled `elastic`
+  Eigen::Matrix3Xd spring_force;       // N, per spring, on its first end
+  Eigen::VectorXd spring_elastic;      // J, a quarter of each spring's energy
 
   // implicit_euler
   Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg;
@@ -391,7 +391,8 @@ struct Simulator::Impl {
     Eigen::SparseMatrix<double> Q(m, m);
     Q.setFromTriplets(t.begin(), t.end());
     llt.compute(Q);
-    if (llt.info() != Eigen::Success) throw std::runtime_error("local_global: the system matrix is not positive definite");
+    if (llt.info() != Eigen::Success)
+      throw std::runtime_error("local_global: the system matrix is not positive definite");
     factored = masses;
   }
 
@@ -455,7 +456,8 @@ State rest_state(const Lattice& l) {
 
 Simulator::Simulator(Lattice lattice, const Options& o) {
   check(lattice);
-  if (!(o.dt > 0) || !std::isfinite(o.dt)) throw std::invalid_argument("massspring: dt must be finite and > 0, got " + fmt(o.dt));
+  if (!(o.dt > 0) || !std::isfinite(o.dt))
+    throw std::invalid_argument("massspring: dt must be finite and > 0, got " + fmt(o.dt));
   if (o.max_substeps < 1) throw std::invalid_argument("massspring: max_substeps must be >= 1");
   if (o.iterations < 1) throw std::invalid_argument("massspring: iterations must be >= 1");
   if (!(o.tolerance > 0) || !(o.tolerance < 1)) throw std::invalid_argument("massspring: tolerance must be in (0, 1)");
@@ -493,7 +495,8 @@ StepInfo Simulator::step(State& s, const std::vector<PointForce>& loads) {
     if (p.mass < 0 || p.mass >= n)
       throw std::invalid_argument("massspring: load on mass " + std::to_string(p.mass) + ", lattice has " +
                                   std::to_string(n));
-    if (!p.force.allFinite()) throw std::invalid_argument("massspring: non-finite load on mass " + std::to_string(p.mass));
+    if (!p.force.allFinite())
+      throw std::invalid_argument("massspring: non-finite load on mass " + std::to_string(p.mass));
   }
   m.select(s, loads);
   // Backup of what the step changes, restored if it fails; whole matrices
@@ -504,17 +507,28 @@ StepInfo Simulator::step(State& s, const std::vector<PointForce>& loads) {
     bx = s.x, bv = s.v;
   } else {
     bx.resize(3, m.masses.size()), bv.resize(3, m.masses.size());
-    for (std::size_t k = 0; k < m.masses.size(); ++k) bx.col(k) = s.x.col(m.masses[k]), bv.col(k) = s.v.col(m.masses[k]);
+    for (std::size_t k = 0; k < m.masses.size(); ++k)
+      bx.col(k) = s.x.col(m.masses[k]), bv.col(k) = s.v.col(m.masses[k]);
   }
   StepInfo info;
   info.substeps = m.substeps;
   const double h = m.opt.dt / m.substeps;
   for (int k = 0; k < m.substeps; ++k) switch (m.opt.integrator) {
-      case Integrator::symplectic_euler: m.symplectic_euler(s, h); break;
-      case Integrator::velocity_verlet: m.velocity_verlet(s, h); break;
-      case Integrator::rk4: m.rk4(s, h); break;
-      case Integrator::implicit_euler: info.solver_iterations += m.implicit_euler(s, h); break;
-      case Integrator::local_global: m.local_global(s, h); break;
+      case Integrator::symplectic_euler:
+        m.symplectic_euler(s, h);
+        break;
+      case Integrator::velocity_verlet:
+        m.velocity_verlet(s, h);
+        break;
+      case Integrator::rk4:
+        m.rk4(s, h);
+        break;
+      case Integrator::implicit_euler:
+        info.solver_iterations += m.implicit_euler(s, h);
+        break;
+      case Integrator::local_global:
+        m.local_global(s, h);
+        break;
     }
   if (!(whole && s.x.allFinite() && s.v.allFinite()))
     for (const int i : m.masses)
@@ -522,10 +536,12 @@ StepInfo Simulator::step(State& s, const std::vector<PointForce>& loads) {
         if (whole) {
           s.x = bx, s.v = bv;
         } else {
-          for (std::size_t k = 0; k < m.masses.size(); ++k) s.x.col(m.masses[k]) = bx.col(k), s.v.col(m.masses[k]) = bv.col(k);
+          for (std::size_t k = 0; k < m.masses.size(); ++k)
+            s.x.col(m.masses[k]) = bx.col(k), s.v.col(m.masses[k]) = bv.col(k);
         }
-        throw std::runtime_error(std::string("massspring: ") + name(m.opt.integrator) + " produced a non-finite state at mass " +
-                                 std::to_string(i) + ", t = " + fmt(s.t) + " s; the state is left as before the step");
+        throw std::runtime_error(std::string("massspring: ") + name(m.opt.integrator) +
+                                 " produced a non-finite state at mass " + std::to_string(i) + ", t = " + fmt(s.t) +
+                                 " s; the state is left as before the step");
       }
   s.t += m.opt.dt;
   info.simulated = int(m.masses.size());
@@ -538,7 +554,8 @@ void Simulator::hold(int i, bool on) {
   if (i < 0 || i >= m.lat.size())
     throw std::invalid_argument("massspring: cannot hold mass " + std::to_string(i) + ", lattice has " +
                                 std::to_string(m.lat.size()));
-  if (m.anchored[i]) throw std::invalid_argument("massspring: mass " + std::to_string(i) + " is anchored, not free to hold");
+  if (m.anchored[i])
+    throw std::invalid_argument("massspring: mass " + std::to_string(i) + " is anchored, not free to hold");
   m.hold(i, on);
 }
 

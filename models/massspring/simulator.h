@@ -20,11 +20,11 @@ enum class OnUnstable { substep, refuse };
 
 struct Options {
   Integrator integrator = Integrator::implicit_euler;
-  double dt = 1e-3;                              // s, > 0
+  double dt = 1e-3;  // s, > 0
   OnUnstable on_unstable = OnUnstable::substep;
-  int max_substeps = 1000;                       // more than this is refused
-  int iterations = 10;                           // local_global: iterations per step
-  double tolerance = 1e-8;                       // implicit_euler: CG relative residual
+  int max_substeps = 1000;  // more than this is refused
+  int iterations = 10;      // local_global: iterations per step
+  double tolerance = 1e-8;  // implicit_euler: CG relative residual
   // Adaptive active masses (001 §II.A, Fig 2): a mass whose kinetic energy
   // plus half the elastic energy of its springs exceeds `threshold` (J), or
   // that carries a point force, is active; it and its neighbours are

@@ -30,8 +30,8 @@ void Canvas::arrow(const Eigen::Vector3d& from, const Eigen::Vector3d& to, const
   double d0 = 0, d1 = 0;
   const Eigen::Vector2d a = project(from, &d0), b = project(to, &d1);
   if (d0 < kNear || d1 < kNear) return;
-  cv::arrowedLine(bgr_, {int(std::lround(a.x())), int(std::lround(a.y()))}, {int(std::lround(b.x())), int(std::lround(b.y()))},
-                  colour, thickness, cv::LINE_AA, 0, 0.25);
+  cv::arrowedLine(bgr_, {int(std::lround(a.x())), int(std::lround(a.y()))},
+                  {int(std::lround(b.x())), int(std::lround(b.y()))}, colour, thickness, cv::LINE_AA, 0, 0.25);
 }
 
 Eigen::Vector2d Canvas::project(const Eigen::Vector3d& world, double* depth) const {
@@ -39,7 +39,8 @@ Eigen::Vector2d Canvas::project(const Eigen::Vector3d& world, double* depth) con
   if (depth) *depth = c.z();
   std::vector<cv::Point3d> in{{c.x(), c.y(), c.z()}};
   std::vector<cv::Point2d> out;
-  cv::projectPoints(in, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), models::vision::camera_matrix(k_), models::vision::distortion(k_), out);
+  cv::projectPoints(in, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), models::vision::camera_matrix(k_),
+                    models::vision::distortion(k_), out);
   return {out[0].x, out[0].y};
 }
 
@@ -47,14 +48,16 @@ void Canvas::mesh(const Eigen::Matrix3Xd& vertices, const std::vector<std::uint3
                   const cv::Scalar& colour) {
   if (triangles.size() % 3) throw std::invalid_argument("canvas: triangles must come in threes of indices");
   for (const std::uint32_t i : triangles)
-    if (i >= vertices.cols()) throw std::invalid_argument("canvas: triangle index " + std::to_string(i) + " out of range");
+    if (i >= vertices.cols())
+      throw std::invalid_argument("canvas: triangle index " + std::to_string(i) + " out of range");
   if (vertices.cols() == 0) return;
   // Every vertex in the camera frame and in the image (with distortion).
   const Eigen::Matrix3Xd cam = world_in_camera_ * vertices;
   std::vector<cv::Point3d> in(std::size_t(cam.cols()));
   for (Eigen::Index v = 0; v < cam.cols(); ++v) in[std::size_t(v)] = {cam(0, v), cam(1, v), std::max(cam(2, v), kNear)};
   std::vector<cv::Point2d> px;
-  cv::projectPoints(in, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), models::vision::camera_matrix(k_), models::vision::distortion(k_), px);
+  cv::projectPoints(in, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), models::vision::camera_matrix(k_),
+                    models::vision::distortion(k_), px);
 
   for (std::size_t t = 0; t < triangles.size(); t += 3) {
     const std::uint32_t a = triangles[t], b = triangles[t + 1], c = triangles[t + 2];

@@ -10,8 +10,8 @@ namespace hcosim::models::render {
 namespace {
 
 // Tableau-like colours (BGR).
-const cv::Scalar kPalette[] = {{180, 119, 31}, {14, 127, 255}, {44, 160, 44}, {40, 39, 214},
-                               {189, 103, 148}, {75, 86, 140}, {194, 119, 227}, {34, 189, 188}};
+const cv::Scalar kPalette[] = {{180, 119, 31},  {14, 127, 255}, {44, 160, 44},   {40, 39, 214},
+                               {189, 103, 148}, {75, 86, 140},  {194, 119, 227}, {34, 189, 188}};
 const cv::Scalar kInk(40, 40, 40), kGrid(225, 225, 225);
 constexpr auto kFont = cv::FONT_HERSHEY_SIMPLEX;
 

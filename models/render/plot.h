@@ -26,8 +26,8 @@ cv::Mat plot_scatter(const std::string& title, const std::string& x_label, const
 
 // Panels stacked over one shared x axis, linear scales, one line per series.
 struct Panel {
-  std::string y_label;          // with its unit, e.g. "force (N)"
-  std::vector<Series> series;   // non-finite points are skipped
+  std::string y_label;         // with its unit, e.g. "force (N)"
+  std::vector<Series> series;  // non-finite points are skipped
 };
 
 // Throws std::invalid_argument when there are no panels.

@@ -9,7 +9,7 @@ const cv::Scalar kStylus(70, 70, 70), kTip(40, 200, 255), kArrow(30, 30, 230);
 }  // namespace
 
 cv::Scalar object_colour(std::size_t i) {
-  const cv::Scalar palette[] = {{200, 140, 60}, {60, 170, 90}, {70, 110, 220}, {170, 80, 170},
+  const cv::Scalar palette[] = {{200, 140, 60}, {60, 170, 90},  {70, 110, 220}, {170, 80, 170},
                                 {40, 170, 200}, {150, 150, 40}, {110, 90, 200}, {90, 200, 160}};
   return palette[i % 8];
 }

@@ -17,14 +17,14 @@ namespace hcosim::models::render {
 
 struct Object {
   std::string name;
-  Mesh mesh;           // world frame, m
-  cv::Scalar colour;   // BGR
+  Mesh mesh;          // world frame, m
+  cv::Scalar colour;  // BGR
 };
 
 struct Stylus {
-  Eigen::Vector3d tip = Eigen::Vector3d::Zero();                 // haptic interface point, world, m
-  Eigen::Matrix3d orientation = Eigen::Matrix3d::Identity();     // stylus to world; the pen runs along +z from the tip
-  Eigen::Vector3d force = Eigen::Vector3d::Zero();               // N, on the stylus, world
+  Eigen::Vector3d tip = Eigen::Vector3d::Zero();              // haptic interface point, world, m
+  Eigen::Matrix3d orientation = Eigen::Matrix3d::Identity();  // stylus to world; the pen runs along +z from the tip
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();            // N, on the stylus, world
 };
 
 struct View {

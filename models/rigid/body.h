@@ -18,12 +18,12 @@ Shape parse_shape(const std::string& s);  // "sphere" or "cube"; throws std::inv
 // A body's constants and state, world frame (the AR marker's), SI units.
 struct Body {
   Shape shape = Shape::sphere;
-  double size = 0.02;  // sphere radius or cube half-edge, m, > 0
-  double mass = 0.1;   // kg, > 0
-  Eigen::Vector3d x = Eigen::Vector3d::Zero();           // centre of mass, m
+  double size = 0.02;                                     // sphere radius or cube half-edge, m, > 0
+  double mass = 0.1;                                      // kg, > 0
+  Eigen::Vector3d x = Eigen::Vector3d::Zero();            // centre of mass, m
   Eigen::Quaterniond q = Eigen::Quaterniond::Identity();  // body to world
-  Eigen::Vector3d v = Eigen::Vector3d::Zero();           // m/s
-  Eigen::Vector3d w = Eigen::Vector3d::Zero();           // rad/s, world frame
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();            // m/s
+  Eigen::Vector3d w = Eigen::Vector3d::Zero();            // rad/s, world frame
   bool sleeping = false;
   double still_s = 0;  // s the body has been slower than the sleep speed
 };

@@ -17,9 +17,9 @@ struct Scenario {
   WorldSpec spec;
   std::vector<Body> bodies;
   Tip tip;
-  double duration = 0.1;   // s simulated
-  double speed = 1;        // m/s, the scene's speed scale: errors are relative to it
-  double tolerance = 0;    // the largest rel_vel_err and rel_angvel_err accepted (docs/rigid.md says why)
+  double duration = 0.1;  // s simulated
+  double speed = 1;       // m/s, the scene's speed scale: errors are relative to it
+  double tolerance = 0;   // the largest rel_vel_err and rel_angvel_err accepted (docs/rigid.md says why)
 };
 
 // head_on, off_centre, grazing, spinning, cube_face, cube_edge, and

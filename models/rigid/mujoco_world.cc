@@ -53,8 +53,9 @@ std::string MujocoWorld::xml(const WorldSpec& spec, const std::vector<Body>& bod
   // A cube has up to 4 contacts with the plane (8 with its corners in
   // it), and each frictional contact 3 constraint rows.
   const std::size_t ncon = 8 * bodies.size() + 8;
-  o << "<mujoco model=\"rigid\">\n<size nconmax=\"" << ncon << "\" njmax=\"" << 3 * ncon << "\"/>\n<option timestep=\"" << dt << "\" integrator=\"Euler\" cone=\"elliptic\" gravity=\""
-    << spec.gravity.x() << " " << spec.gravity.y() << " " << spec.gravity.z() << "\"/>\n"
+  o << "<mujoco model=\"rigid\">\n<size nconmax=\"" << ncon << "\" njmax=\"" << 3 * ncon << "\"/>\n<option timestep=\""
+    << dt << "\" integrator=\"Euler\" cone=\"elliptic\" gravity=\"" << spec.gravity.x() << " " << spec.gravity.y()
+    << " " << spec.gravity.z() << "\"/>\n"
     << "<default><geom contype=\"0\" conaffinity=\"0\"/></default>\n<worldbody>\n";
   if (spec.ground) o << "<geom name=\"floor\" type=\"plane\" size=\"0 0 1\"/>\n";
   for (std::size_t i = 0; i < bodies.size(); ++i) {
@@ -67,7 +68,8 @@ std::string MujocoWorld::xml(const WorldSpec& spec, const std::vector<Body>& bod
   }
   o << "<body name=\"tip\"><joint type=\"slide\" axis=\"1 0 0\"/><joint type=\"slide\" axis=\"0 1 0\"/>"
     << "<joint type=\"slide\" axis=\"0 0 1\"/><geom name=\"tip\" type=\"sphere\" size=\""
-    << std::max(spec.tip_radius, kMinTipRadius) << "\" mass=\"" << spec.tip_mass << "\"/></body>\n</worldbody>\n<contact>\n";
+    << std::max(spec.tip_radius, kMinTipRadius) << "\" mass=\"" << spec.tip_mass
+    << "\"/></body>\n</worldbody>\n<contact>\n";
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     const std::string g = "g" + std::to_string(i);
     o << pair("tip", g, spec.tip, dt, c);
@@ -151,14 +153,16 @@ void MujocoWorld::step() {
     const Body b = body(i);
     const Eigen::Vector3d f = -(drag.linear + drag.quadratic * b.v.norm()) * b.v;
     const Eigen::Vector3d t = -(drag.angular_linear + drag.angular_quadratic * b.w.norm()) * b.w;
-    for (int k = 0; k < 3; ++k) d->xfrc_applied[6 * impl_->body[i] + k] = f[k], d->xfrc_applied[6 * impl_->body[i] + 3 + k] = t[k];
+    for (int k = 0; k < 3; ++k)
+      d->xfrc_applied[6 * impl_->body[i] + k] = f[k], d->xfrc_applied[6 * impl_->body[i] + 3 + k] = t[k];
   }
   for (int k = 0; k < 3; ++k) d->xfrc_applied[6 * impl_->tip_body + k] = -impl_->spec.tip_mass * impl_->spec.gravity[k];
   mj_step(m, d);
   for (int w = 0; w < mjNWARNING; ++w)
     if (d->warning[w].number > 0)
-      throw std::runtime_error(std::string("mujoco world: MuJoCo warning '") + mju_warningText(w, d->warning[w].lastinfo) +
-                               "' at t = " + std::to_string(d->time) + " s");
+      throw std::runtime_error(std::string("mujoco world: MuJoCo warning '") +
+                               mju_warningText(w, d->warning[w].lastinfo) + "' at t = " + std::to_string(d->time) +
+                               " s");
 }
 
 Eigen::Vector3d MujocoWorld::momentum() const {
@@ -177,7 +181,8 @@ Eigen::Vector3d MujocoWorld::angular_momentum() const {
 Eigen::Vector3d MujocoWorld::subtree_angular_momentum() const {
   mj_forward(impl_->model, impl_->data);  // after mj_step, positions are a step ahead of xpos
   mj_subtreeVel(impl_->model, impl_->data);
-  return Eigen::Vector3d(impl_->data->subtree_angmom[0], impl_->data->subtree_angmom[1], impl_->data->subtree_angmom[2]);
+  return Eigen::Vector3d(impl_->data->subtree_angmom[0], impl_->data->subtree_angmom[1],
+                         impl_->data->subtree_angmom[2]);
 }
 
 double MujocoWorld::kinetic_energy() const {

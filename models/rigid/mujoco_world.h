@@ -22,8 +22,8 @@
 namespace hcosim::models::rigid {
 
 struct MujocoContact {
-  double contact_steps = 8;     // steps per contact half-period, >= 2
-  double impedance = 0.9;       // solimp d0 = dwidth, in (0, 1)
+  double contact_steps = 8;  // steps per contact half-period, >= 2
+  double impedance = 0.9;    // solimp d0 = dwidth, in (0, 1)
 };
 
 class MujocoWorld {
@@ -42,7 +42,7 @@ class MujocoWorld {
   void set_tip(const Tip& t);
   Tip tip() const;
   std::vector<Body> bodies() const;  // sleeping is always false: MuJoCo 2.2.2 has no sleep
-  Body body(std::size_t i) const;     // one of them, without allocating
+  Body body(std::size_t i) const;    // one of them, without allocating
 
   // Totals as in World (about the world origin), and MuJoCo's own angular
   // momentum of the whole system about its centre of mass (mj_subtreeVel).
@@ -51,7 +51,8 @@ class MujocoWorld {
   Eigen::Vector3d subtree_angular_momentum() const;
   double kinetic_energy() const;
 
-  static std::string xml(const WorldSpec& spec, const std::vector<Body>& bodies, double dt, const MujocoContact& contact);
+  static std::string xml(const WorldSpec& spec, const std::vector<Body>& bodies, double dt,
+                         const MujocoContact& contact);
 
  private:
   struct Impl;

@@ -45,7 +45,8 @@ Eigen::Vector3d Proxy::update(const Body& b, double margin, const Eigen::Vector3
     Eigen::Vector3d out = R.transpose() * (last_ - b.x), in = hl;
     Body at_origin = b;
     at_origin.x.setZero(), at_origin.q.setIdentity();
-    if (nearest(at_origin, out, margin).distance <= 0) out = nearest(at_origin, in, margin).point;  // no free past: nearest
+    if (nearest(at_origin, out, margin).distance <= 0)
+      out = nearest(at_origin, in, margin).point;  // no free past: nearest
     for (int k = 0; k < 50; ++k) {
       const Eigen::Vector3d mid = 0.5 * (out + in);
       (nearest(at_origin, mid, margin).distance > 0 ? out : in) = mid;

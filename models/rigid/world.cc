@@ -225,7 +225,9 @@ void World::floor(Body& b) const {
     b.v += P / b.mass;
     b.w += r.cross(P) / I;
   };
-  auto k = [&](const Eigen::Vector3d& r, const Eigen::Vector3d& d) { return 1 / b.mass + r.cross(d).squaredNorm() / I; };
+  auto k = [&](const Eigen::Vector3d& r, const Eigen::Vector3d& d) {
+    return 1 / b.mass + r.cross(d).squaredNorm() / I;
+  };
   // Jacobi sweeps: every touch's impulse from the same velocities, each
   // applied at 1/n, so that symmetric touches (a cube flat on the plane)
   // get equal impulses. Gauss-Seidel sweeps in any order tilt a resting

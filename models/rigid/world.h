@@ -31,10 +31,10 @@ struct Material {
 // that makes motion stop. The defaults stop a 0.1 kg object within seconds,
 // far sooner than real air would (its linear term is about 1e-5 N s/m).
 struct Drag {
-  double linear = 0.05;              // N s/m
-  double quadratic = 0.001;          // N s^2/m^2
-  double angular_linear = 1e-5;      // N m s
-  double angular_quadratic = 1e-7;   // N m s^2
+  double linear = 0.05;             // N s/m
+  double quadratic = 0.001;         // N s^2/m^2
+  double angular_linear = 1e-5;     // N m s
+  double angular_quadratic = 1e-7;  // N m s^2
 };
 
 struct WorldSpec {
@@ -43,11 +43,11 @@ struct WorldSpec {
   Material tip;                          // tip against a body
   Material floor{0.2, 0.5};              // a body against the marker plane
   Drag drag;
-  double tip_radius = 0.002;             // m, >= 0
-  double tip_mass = 0.1;                 // kg, > 0
-  double bounce_speed = 0.05;            // m/s: slower floor impacts do not bounce (resting contact)
-  double sleep_speed = 2e-3;             // m/s: slower bodies (w times size counted as speed) may sleep
-  double sleep_time = 0.3;               // s slower than sleep_speed before sleeping
+  double tip_radius = 0.002;   // m, >= 0
+  double tip_mass = 0.1;       // kg, > 0
+  double bounce_speed = 0.05;  // m/s: slower floor impacts do not bounce (resting contact)
+  double sleep_speed = 2e-3;   // m/s: slower bodies (w times size counted as speed) may sleep
+  double sleep_time = 0.3;     // s slower than sleep_speed before sleeping
 };
 
 // The stylus tip: a particle, world frame.
@@ -58,8 +58,8 @@ struct Tip {
 
 // What a step did.
 struct StepReport {
-  int hits = 0;            // tip-body impulses
-  int simulated = 0;       // bodies not asleep
+  int hits = 0;       // tip-body impulses
+  int simulated = 0;  // bodies not asleep
 };
 
 // Throw std::invalid_argument naming the bad field (or body index).

@@ -18,7 +18,8 @@ void check(const Intrinsics& k) {
   if (!(std::isfinite(k.cx) && std::isfinite(k.cy)))
     throw std::invalid_argument("camera: principal point is not finite");
   for (double d : k.distortion)
-    if (!std::isfinite(d) || std::abs(d) > 1e3) throw std::invalid_argument("camera: a distortion coefficient is absurd");
+    if (!std::isfinite(d) || std::abs(d) > 1e3)
+      throw std::invalid_argument("camera: a distortion coefficient is absurd");
 }
 
 Intrinsics synthetic_intrinsics(int width, int height) {
@@ -32,7 +33,9 @@ Intrinsics synthetic_intrinsics(int width, int height) {
 
 cv::Matx33d camera_matrix(const Intrinsics& k) { return {k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1}; }
 
-cv::Mat distortion(const Intrinsics& k) { return cv::Mat(1, 5, CV_64F, const_cast<double*>(k.distortion.data())).clone(); }
+cv::Mat distortion(const Intrinsics& k) {
+  return cv::Mat(1, 5, CV_64F, const_cast<double*>(k.distortion.data())).clone();
+}
 
 Eigen::Vector2d project(const Intrinsics& k, const Eigen::Isometry3d& tag_in_camera, const Eigen::Vector3d& p) {
   const Eigen::Vector3d c = tag_in_camera * p;

@@ -15,8 +15,10 @@ extern "C" {
 namespace hcosim::models::vision {
 
 void check(const DetectorParams& p) {
-  if (!(p.quad_decimate >= 1 && p.quad_decimate <= 8)) throw std::invalid_argument("detector: quad_decimate must be in [1, 8]");
-  if (!(p.quad_sigma >= -2 && p.quad_sigma <= 4)) throw std::invalid_argument("detector: quad_sigma must be in [-2, 4]");
+  if (!(p.quad_decimate >= 1 && p.quad_decimate <= 8))
+    throw std::invalid_argument("detector: quad_decimate must be in [1, 8]");
+  if (!(p.quad_sigma >= -2 && p.quad_sigma <= 4))
+    throw std::invalid_argument("detector: quad_sigma must be in [-2, 4]");
   if (p.nthreads < 1 || p.nthreads > 64) throw std::invalid_argument("detector: nthreads must be in [1, 64]");
   if (!(p.decode_sharpening >= 0 && p.decode_sharpening <= 2))
     throw std::invalid_argument("detector: decode_sharpening must be in [0, 2]");
@@ -58,7 +60,8 @@ bool fit_edge(const cv::Mat& g, const Eigen::Vector2d& a, const Eigen::Vector2d&
       if (inside) profile[std::size_t(j + half)] = grey_at(g, s.x(), s.y());
     }
     if (!inside) continue;
-    const double dark = (profile[0] + profile[1]) / 2, light = (profile[profile.size() - 1] + profile[profile.size() - 2]) / 2;
+    const double dark = (profile[0] + profile[1]) / 2,
+                 light = (profile[profile.size() - 1] + profile[profile.size() - 2]) / 2;
     if (light - dark < 20) continue;  // too faint to trust
     const double mid = 0.5 * (dark + light);
     // The crossing nearest the middle of the profile.
@@ -91,7 +94,8 @@ std::array<Eigen::Vector2d, 4> refine_corners(const cv::Mat& grey, const std::ar
                                               int cells) {
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();
   double perimeter = 0;
-  for (std::size_t i = 0; i < 4; ++i) centre += 0.25 * corners[i], perimeter += (corners[(i + 1) % 4] - corners[i]).norm();
+  for (std::size_t i = 0; i < 4; ++i)
+    centre += 0.25 * corners[i], perimeter += (corners[(i + 1) % 4] - corners[i]).norm();
   // Half a cell of the smallest plausible cell, at most 3 px.
   const double reach = std::min(3.0, 0.5 * perimeter / 4 / cells);
   if (reach < 1) return corners;

@@ -19,13 +19,13 @@ namespace hcosim::models::vision {
 
 struct DetectorParams {
   std::string family = "tag36h11";
-  double quad_decimate = 1.5;     // detect quads on a frame this many times smaller (1: full; libapriltag: 2)
-  double quad_sigma = 0;          // px, Gaussian blur before quad detection (negative: sharpen)
+  double quad_decimate = 1.5;  // detect quads on a frame this many times smaller (1: full; libapriltag: 2)
+  double quad_sigma = 0;       // px, Gaussian blur before quad detection (negative: sharpen)
   int nthreads = 1;
-  bool refine_edges = true;       // snap quad edges to the strongest gradient at full resolution
+  bool refine_edges = true;  // snap quad edges to the strongest gradient at full resolution
   double decode_sharpening = 0.25;
-  int max_hamming = 1;            // bit errors corrected; more finds damaged tags and more false ones
-  bool refine_corners = true;     // refit each border edge to its sub-pixel edge points (below)
+  int max_hamming = 1;         // bit errors corrected; more finds damaged tags and more false ones
+  bool refine_corners = true;  // refit each border edge to its sub-pixel edge points (below)
 };
 
 // Throws std::invalid_argument naming the bad parameter.

@@ -52,8 +52,8 @@ TagPose estimate_pose(const std::array<Eigen::Vector2d, 4>& corners, double tag_
   for (int i : {3, 2, 1, 0}) img.emplace_back(corners[std::size_t(i)].x(), corners[std::size_t(i)].y());
   std::vector<cv::Mat> rvecs, tvecs;
   cv::Mat errors;
-  int n = cv::solvePnPGeneric(obj, img, camera_matrix(k), distortion(k), rvecs, tvecs, false,
-                                    cv::SOLVEPNP_IPPE_SQUARE, cv::noArray(), cv::noArray(), errors);
+  int n = cv::solvePnPGeneric(obj, img, camera_matrix(k), distortion(k), rvecs, tvecs, false, cv::SOLVEPNP_IPPE_SQUARE,
+                              cv::noArray(), cv::noArray(), errors);
   // OpenCV 4.6's IPPE returns NaN for a square seen exactly head-on and
   // centred on the principal point (a synthetic camera's first frame);
   // such a view has one pose, which SQPnP finds.
@@ -91,7 +91,8 @@ TagPose estimate_pose(const std::array<Eigen::Vector2d, 4>& corners, double tag_
   out.ambiguous = c.size() > 1 && c[1].error <= options.ambiguity_ratio * std::max(c[0].error, 1e-3) &&
                   angle_between(c[0].pose.linear(), c[1].pose.linear()) > 1e-2;
   if (out.ambiguous && prior)
-    pick = angle_between(c[1].pose.linear(), prior->linear()) < angle_between(c[0].pose.linear(), prior->linear()) ? 1 : 0;
+    pick =
+        angle_between(c[1].pose.linear(), prior->linear()) < angle_between(c[0].pose.linear(), prior->linear()) ? 1 : 0;
   out.tag_in_camera = c[pick].pose;
   out.reprojection_error_px = c[pick].error;
   return out;

@@ -22,8 +22,8 @@ struct PoseOptions {
 
 struct TagPose {
   Eigen::Isometry3d tag_in_camera = Eigen::Isometry3d::Identity();  // tag frame to camera frame, m
-  double reprojection_error_px = 0;  // RMS over the corners
-  bool ambiguous = false;            // the other IPPE solution fit within ambiguity_ratio
+  double reprojection_error_px = 0;                                 // RMS over the corners
+  bool ambiguous = false;  // the other IPPE solution fit within ambiguity_ratio
 };
 
 // The pose of a tag of black-border edge `tag_size` (m) from its corners

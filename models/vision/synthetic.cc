@@ -152,8 +152,8 @@ cv::Mat SyntheticCamera::render(const Eigen::Isometry3d& pose, const Conditions&
 std::vector<Eigen::Vector2d> SyntheticCamera::corners(const Eigen::Isometry3d& pose) const {
   const double h = 0.5 * m_.tag_size;
   std::vector<Eigen::Vector2d> out;
-  for (const Eigen::Vector3d& p : {Eigen::Vector3d(-h, -h, 0), Eigen::Vector3d(h, -h, 0), Eigen::Vector3d(h, h, 0),
-                                   Eigen::Vector3d(-h, h, 0)})
+  for (const Eigen::Vector3d& p :
+       {Eigen::Vector3d(-h, -h, 0), Eigen::Vector3d(h, -h, 0), Eigen::Vector3d(h, h, 0), Eigen::Vector3d(-h, h, 0)})
     out.push_back(project(k_, pose, p));
   return out;
 }
@@ -175,18 +175,20 @@ std::vector<Eigen::Isometry3d> random_poses(const Intrinsics& k, double tag_size
   const double pi = std::acos(-1.0), h = 0.5 * tag_size;
   std::vector<Eigen::Isometry3d> out;
   for (int tries = 0; int(out.size()) < n; ++tries) {
-    if (tries > 1000 * (n + 1)) throw std::invalid_argument("random_poses: the tag does not fit in the frame at these distances");
+    if (tries > 1000 * (n + 1))
+      throw std::invalid_argument("random_poses: the tag does not fit in the frame at these distances");
     const double d = near + (far - near) * unit(rng);
     const double tilt = max_tilt_deg * pi / 180 * unit(rng), axis = 2 * pi * unit(rng), turn = 2 * pi * unit(rng);
     Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
-    p.linear() = kFacing * Eigen::AngleAxisd(tilt, Eigen::Vector3d(std::cos(axis), std::sin(axis), 0)).toRotationMatrix() *
+    p.linear() = kFacing *
+                 Eigen::AngleAxisd(tilt, Eigen::Vector3d(std::cos(axis), std::sin(axis), 0)).toRotationMatrix() *
                  Eigen::AngleAxisd(turn, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     // The centre along a ray through a random pixel.
     const double u = k.width * unit(rng), v = k.height * unit(rng);
     p.translation() = d * Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1).normalized();
     bool inside = true;
-    for (const Eigen::Vector3d& c : {Eigen::Vector3d(-h, -h, 0), Eigen::Vector3d(h, -h, 0), Eigen::Vector3d(h, h, 0),
-                                     Eigen::Vector3d(-h, h, 0)}) {
+    for (const Eigen::Vector3d& c :
+         {Eigen::Vector3d(-h, -h, 0), Eigen::Vector3d(h, -h, 0), Eigen::Vector3d(h, h, 0), Eigen::Vector3d(-h, h, 0)}) {
       const Eigen::Vector3d q = p * c;
       const double x = k.fx * q.x() / q.z() + k.cx, y = k.fy * q.y() / q.z() + k.cy;
       inside &= q.z() > 0 && x >= 8 && y >= 8 && x <= k.width - 9 && y <= k.height - 9;
@@ -227,7 +229,8 @@ Eigen::Isometry3d orbit(double t, const Orbit& o) {
     return p;
   }
   Eigen::Isometry3d p = facing(d);
-  p.linear() = kFacing * Eigen::AngleAxisd(tilt, Eigen::Vector3d(std::cos(phase), std::sin(phase), 0)).toRotationMatrix();
+  p.linear() =
+      kFacing * Eigen::AngleAxisd(tilt, Eigen::Vector3d(std::cos(phase), std::sin(phase), 0)).toRotationMatrix();
   return p;
 }
 

@@ -60,9 +60,9 @@ class SyntheticCamera {
 
   Intrinsics k_;
   Marker m_;
-  cv::Mat texture_;                 // the sheet, CV_8U
+  cv::Mat texture_;  // the sheet, CV_8U
   double metres_per_texel_ = 0;
-  cv::Mat map_x_, map_y_;           // distortion: for each image pixel, where it lies undistorted
+  cv::Mat map_x_, map_y_;  // distortion: for each image pixel, where it lies undistorted
 };
 
 // n poses of the tag in the camera, each with the whole sheet's tag in the
@@ -88,7 +88,7 @@ struct Orbit {
   double base_tilt_deg = 0;  // degrees; base + amplitude < 80
   double period = 20;        // s, > 0
   bool upright = false;
-  double sweep_deg = 0;      // upright: degrees of sway about the tag's normal, < 180
+  double sweep_deg = 0;  // upright: degrees of sway about the tag's normal, < 180
 };
 
 // Throws std::invalid_argument naming the first bad field.

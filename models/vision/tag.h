@@ -21,9 +21,9 @@ class Family {
   Family& operator=(const Family&) = delete;
 
   const std::string& name() const { return name_; }
-  int codes() const;          // tags in the family (ids 0 .. codes-1)
-  int border_cells() const;   // cells across the black border
-  int total_cells() const;    // cells across the whole tag image, white margin included
+  int codes() const;         // tags in the family (ids 0 .. codes-1)
+  int border_cells() const;  // cells across the black border
+  int total_cells() const;   // cells across the whole tag image, white margin included
   // Tag `id`, one pixel per cell, 0 black and 255 white. Throws for a bad id.
   cv::Mat image(int id) const;
   apriltag_family* get() const { return family_; }

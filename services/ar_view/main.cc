@@ -14,11 +14,11 @@
 #include <opencv2/imgproc.hpp>
 
 #include "adapters/render/ar_idl.h"
+#include "adapters/vision/media.h"
+#include "adapters/vision/vision_idl.h"
 #include "models/render/plot.h"
 #include "models/rigid/body.h"
 #include "services/runtime/service.h"
-#include "adapters/vision/media.h"
-#include "adapters/vision/vision_idl.h"
 
 using namespace hcosim;
 using namespace hcosim::services::runtime;
@@ -32,8 +32,8 @@ constexpr int kTraceDepth = 256;
 
 struct Item {
   std::string name;
-  std::string kind;   // rigid or deformable
-  double size = 0;    // rigid: half-edge or radius, m
+  std::string kind;  // rigid or deformable
+  double size = 0;   // rigid: half-edge or radius, m
   cv::Scalar colour;
 };
 
@@ -82,25 +82,27 @@ void write_plots(const fs::path& dir, const std::map<std::string, Trace>& traces
   fs::create_directories(dir);
   models::render::Panel all_force{"force on the stylus (N)", {}}, all_depth{"penetration (mm)", {}};
   for (const auto& [name, tr] : traces) {
-    adapters::vision::write_image((dir / (name + ".png")).string(),
-                        models::render::plot_series(name + ": force and penetration against simulated time",
-                                            "simulated time (s)",
-                                            {{"force on the stylus (N)", {{name, tr.t, tr.force}}},
-                                             {"penetration (mm)", {{name, tr.t, tr.depth_mm}}}}));
+    adapters::vision::write_image(
+        (dir / (name + ".png")).string(),
+        models::render::plot_series(name + ": force and penetration against simulated time", "simulated time (s)",
+                                    {{"force on the stylus (N)", {{name, tr.t, tr.force}}},
+                                     {"penetration (mm)", {{name, tr.t, tr.depth_mm}}}}));
     all_force.series.push_back({name, tr.t, tr.force});
     all_depth.series.push_back({name, tr.t, tr.depth_mm});
   }
   if (!traces.empty())
-    adapters::vision::write_image((dir / "all.png").string(),
-                        models::render::plot_series("every object: force and penetration against simulated time",
-                                            "simulated time (s)", {all_force, all_depth}));
+    adapters::vision::write_image(
+        (dir / "all.png").string(),
+        models::render::plot_series("every object: force and penetration against simulated time", "simulated time (s)",
+                                    {all_force, all_depth}));
 }
 
 int run(int argc, char** argv) {
   Service svc(parse_options(argc, argv));
   const Params& p = svc.params();
   const std::string& name = svc.options().name;
-  p.allow_only({"camera", "tag_id", "device", "objects", "video", "snapshots", "plots", "force_scale", "stylus", "fps"});
+  p.allow_only(
+      {"camera", "tag_id", "device", "objects", "video", "snapshots", "plots", "force_scale", "stylus", "fps"});
   const std::string camera = p.string("camera", "");
   const int tag_id = p.whole("tag_id", 0, 0, 1000000);
   const std::string device = p.string("device", "omni");
@@ -164,7 +166,8 @@ int run(int argc, char** argv) {
     }
     view.stylus.reset();
     if (stylus && show_stylus) view.stylus = adapters::render::stylus(*stylus);
-    models::render::Canvas canvas(composite, adapters::vision::intrinsics(f), adapters::vision::from_idl(pose->tag_in_camera()));
+    models::render::Canvas canvas(composite, adapters::vision::intrinsics(f),
+                                  adapters::vision::from_idl(pose->tag_in_camera()));
     models::render::draw(view, canvas);
     cover_pct.add(100.0 * double(canvas.pixels()) / double(composite.total()));
   };
@@ -212,12 +215,15 @@ int run(int argc, char** argv) {
     });
   });
   video.reset();  // closes the file before it is named below
-  std::printf("%s: %llu frames drawn, %llu skipped (late, or never sent), %llu drawn with the previous frame's marker pose, %llu "
-              "without any (no overlay); drawing p50 %.2f ms p99 %.2f ms; the objects cover p50 %.1f%% of a frame\n",
-              name.c_str(), (unsigned long long)rendered, (unsigned long long)skipped, (unsigned long long)stale_pose,
-              (unsigned long long)unregistered, render_ms.percentile(0.5), render_ms.percentile(0.99),
-              cover_pct.size() ? cover_pct.percentile(0.5) : 0.0);
-  if (written) std::printf("%s: video %s, %llu frames\n", name.c_str(), video_path.c_str(), (unsigned long long)written);
+  std::printf(
+      "%s: %llu frames drawn, %llu skipped (late, or never sent), %llu drawn with the previous frame's marker pose, "
+      "%llu "
+      "without any (no overlay); drawing p50 %.2f ms p99 %.2f ms; the objects cover p50 %.1f%% of a frame\n",
+      name.c_str(), (unsigned long long)rendered, (unsigned long long)skipped, (unsigned long long)stale_pose,
+      (unsigned long long)unregistered, render_ms.percentile(0.5), render_ms.percentile(0.99),
+      cover_pct.size() ? cover_pct.percentile(0.5) : 0.0);
+  if (written)
+    std::printf("%s: video %s, %llu frames\n", name.c_str(), video_path.c_str(), (unsigned long long)written);
   for (const std::string& pic : pictures) std::printf("%s: picture %s\n", name.c_str(), pic.c_str());
   if (next_snapshot < snapshots.size())
     std::printf("%s: %zu picture(s) not taken: the run ended before %.3g s\n", name.c_str(),
@@ -233,4 +239,6 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) { return guarded_main("hcosim_ar_view", [&] { return run(argc, argv); }); }
+int main(int argc, char** argv) {
+  return guarded_main("hcosim_ar_view", [&] { return run(argc, argv); });
+}

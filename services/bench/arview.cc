@@ -27,11 +27,11 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
-#include "services/bench/bench.h"
 #include "models/deformable/elastic_surface.h"
 #include "models/deformable/surface.h"
 #include "models/render/view.h"
 #include "models/vision/synthetic.h"
+#include "services/bench/bench.h"
 
 namespace hcosim::services::bench {
 namespace {
@@ -67,7 +67,9 @@ models::render::Mesh surface(models::deformable::Shape shape, const Eigen::Vecto
 // deploy/default.yaml's objects at rest, and the stylus pressing the sheet.
 models::render::View scene(const std::string& name) {
   models::render::View v;
-  const auto add = [&](models::render::Mesh m) { v.objects.push_back({"", std::move(m), models::render::object_colour(v.objects.size())}); };
+  const auto add = [&](models::render::Mesh m) {
+    v.objects.push_back({"", std::move(m), models::render::object_colour(v.objects.size())});
+  };
   if (name == "one_mesh") return add(box(30, {0, 0.035, 0.015}, 0.03, 8)), v;
   if (name == "dense") return add(box(100, {0, 0.035, 0.015}, 0.03, 8)), v;
   Eigen::Isometry3d at = Eigen::Isometry3d::Identity();
@@ -93,7 +95,8 @@ std::size_t triangles(const models::render::View& v) {
 }
 
 // The baseline: the same shaded triangles painted far to near by OpenCV.
-void painter(const models::render::View& v, const models::vision::Intrinsics& k, const Eigen::Isometry3d& world_in_camera, cv::Mat& img) {
+void painter(const models::render::View& v, const models::vision::Intrinsics& k,
+             const Eigen::Isometry3d& world_in_camera, cv::Mat& img) {
   struct Tri {
     double depth;
     std::array<cv::Point, 3> px;
@@ -178,7 +181,8 @@ std::vector<Row> frame_rows(const Context& c) {
     }
     video.release();
     std::filesystem::remove(video_path);
-    Row r{"frame", {{"scene", cs.scene}, {"resolution", std::to_string(cs.width) + "x" + std::to_string(cs.height)}}, {}};
+    Row r{
+        "frame", {{"scene", cs.scene}, {"resolution", std::to_string(cs.width) + "x" + std::to_string(cs.height)}}, {}};
     const double frame_ms = total.percentile(0.5);
     r.metrics = {{"triangles", double(triangles(view))},
                  {"draw_ms_p50", draw.percentile(0.5)},
@@ -205,8 +209,8 @@ Suite arview_suite() {
                "encode and both per frame (p50, p99 over the frames), against OpenCV filling the same shaded "
                "triangles far to near on the same frames (the baseline of ratio_to_opencv); differ_pct is the share "
                "of pixels where the two pictures differ, that both drew the same scene."}};
-  s.goals = {{"a 10k-triangle mesh drawn and encoded within a 30 fps frame at p99", "frame", "frame_ms_p99", 1000.0 / 30,
-              "scene", "one_mesh"}};
+  s.goals = {{"a 10k-triangle mesh drawn and encoded within a 30 fps frame at p99", "frame", "frame_ms_p99",
+              1000.0 / 30, "scene", "one_mesh"}};
   return s;
 }
 

@@ -14,9 +14,9 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "adapters/json.h"
 #include "services/bench/bench.h"
 #include "services/cli/cli.h"
-#include "adapters/json.h"
 
 namespace fs = std::filesystem;
 
@@ -24,14 +24,20 @@ namespace hcosim::services::bench {
 namespace {
 
 const std::vector<Suite>& suites() {
-  static const std::vector<Suite> all = {dds_suite(),    massspring_suite(), haptic_suite(), hybrid_suite(),
-                                         rigid_suite(),  tracking_suite(),   arview_suite(), soak_suite()};
+  static const std::vector<Suite> all = {dds_suite(),   massspring_suite(), haptic_suite(), hybrid_suite(),
+                                         rigid_suite(), tracking_suite(),   arview_suite(), soak_suite()};
   return all;
 }
 
 void write_json(const fs::path& dir, const Result& r) {
   adapters::Json j;
-  j.begin_object().key("suite").value(r.suite->name).key("description").value(r.suite->what).key("machine").begin_object();
+  j.begin_object()
+      .key("suite")
+      .value(r.suite->name)
+      .key("description")
+      .value(r.suite->what)
+      .key("machine")
+      .begin_object();
   for (const auto& [k, v] : r.machine) j.key(k).value(v);
   j.end_object().key("command").value(r.command).key("seconds").value(r.seconds).key("rows").begin_array();
   for (const auto& row : r.rows) {
@@ -54,15 +60,18 @@ void write_json(const fs::path& dir, const Result& r) {
 // scalars are strings, plain ones numbers, null a metric not measured).
 Result read_json(const fs::path& file, const Suite& s) {
   const YAML::Node doc = YAML::LoadFile(file.string());
-  Result r{&s, {}, {}, doc["command"] ? doc["command"].as<std::string>() : "a run that did not record its command", {}, NAN, ""};
+  Result r{&s, {},  {}, doc["command"] ? doc["command"].as<std::string>() : "a run that did not record its command",
+           {}, NAN, ""};
   for (const auto& kv : doc["machine"]) r.machine.emplace_back(kv.first.as<std::string>(), kv.second.as<std::string>());
   if (doc["seconds"] && !doc["seconds"].IsNull()) r.seconds = doc["seconds"].as<double>();
   for (const YAML::Node& row : doc["rows"]) {
     Row out{row["name"].as<std::string>(), {}, {}};
     for (const auto& kv : row["params"]) {
       const std::string k = kv.first.as<std::string>();
-      if (kv.second.Tag() == "!") out.params.emplace_back(k, kv.second.as<std::string>());
-      else out.params.emplace_back(k, kv.second.as<double>());
+      if (kv.second.Tag() == "!")
+        out.params.emplace_back(k, kv.second.as<std::string>());
+      else
+        out.params.emplace_back(k, kv.second.as<double>());
     }
     for (const auto& kv : row["metrics"])
       out.metrics.emplace_back(kv.first.as<std::string>(), kv.second.IsNull() ? NAN : kv.second.as<double>());
@@ -81,7 +90,8 @@ int report(const fs::path& dir) {
     try {
       results.push_back(read_json(file, s));
     } catch (const YAML::Exception& e) {
-      throw std::runtime_error(file.string() + ":" + std::to_string(e.mark.line + 1) + ": not a bench report: " + e.msg);
+      throw std::runtime_error(file.string() + ":" + std::to_string(e.mark.line + 1) +
+                               ": not a bench report: " + e.msg);
     }
     results.back().figures = draw_plots(s, results.back().rows, dir);
   }

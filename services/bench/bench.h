@@ -111,8 +111,8 @@ Suite soak_suite();
 // tour repeated to last `seconds`, for `duration` s (0: until stopped), the
 // device's closing report written to `device_report` when one is named;
 // written into `dir` (its deploy.yaml, returned).
-std::filesystem::path default_deployment(const std::filesystem::path& dir, int domain, double seconds,
-                                         double duration, const std::filesystem::path& device_report = {});
+std::filesystem::path default_deployment(const std::filesystem::path& dir, int domain, double seconds, double duration,
+                                         const std::filesystem::path& device_report = {});
 
 // `hcosim up DEPLOYMENT --out OUT` in a child process, its output to `log`.
 pid_t start_up(const std::filesystem::path& deployment, const std::filesystem::path& out,
@@ -151,6 +151,7 @@ struct Result {
 // Writes DIR/index.md: per suite its goals, tables and plots, and the
 // machine (report.cc). `redrawn_by` names the command when the
 // report is drawn again from the JSON files of an earlier run.
-void write_index(const std::filesystem::path& dir, const std::vector<Result>& results, const std::string& redrawn_by = "");
+void write_index(const std::filesystem::path& dir, const std::vector<Result>& results,
+                 const std::string& redrawn_by = "");
 
 }  // namespace hcosim::services::bench

@@ -34,17 +34,17 @@
 #include <memory>
 #include <thread>
 
-#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
-#include <fastdds/dds/topic/TypeSupport.hpp>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
 
+#include "adapters/validate.h"
 #include "services/bench/bench.h"
 #include "services/bench/peer.h"
 #include "services/cli/cli.h"
 #include "services/runtime/realtime.h"
 #include "services/runtime/service.h"
-#include "adapters/validate.h"
 
 namespace fs = std::filesystem;
 
@@ -162,8 +162,10 @@ Rtt ping(double seconds, Wait&& wait, Take&& take, Write&& write) {
     bool answered = false;
     while (!answered && runtime::mono_ns() - t0 < 10'000'000)
       if (wait()) answered = take(k);
-    if (answered) r.us.add((runtime::mono_ns() - t0) * 1e-3);
-    else ++r.lost;
+    if (answered)
+      r.us.add((runtime::mono_ns() - t0) * 1e-3);
+    else
+      ++r.lost;
   }
   return r;
 }
@@ -171,7 +173,8 @@ Rtt ping(double seconds, Wait&& wait, Take&& take, Write&& write) {
 // Waits up to 10 s for `want` matches on both counts.
 void await_match(const std::function<int()>& writers_readers, int want) {
   const std::int64_t deadline = runtime::mono_ns() + 10'000'000'000;
-  while (writers_readers() < want && runtime::mono_ns() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  while (writers_readers() < want && runtime::mono_ns() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
 }
 
 Row rtt_row(const std::string& impl, const Rtt& r) {
@@ -254,7 +257,7 @@ Seen read_seen(const fs::path& file) {
 struct Writing {
   std::uint64_t written = 0, refused = 0;
   double cpu_s = 0, window_s = 0;
-  bool acked = true;     // every reader acknowledged the last sample in time
+  bool acked = true;      // every reader acknowledged the last sample in time
   double startup_ms = 0;  // from the match until every reader took a sample
 };
 
@@ -314,8 +317,10 @@ Writing write_meshes(int vertices, int count, const std::vector<fs::path>& reade
   const double cpu0 = cpu_s();
   const std::int64_t start = runtime::mono_ns() + period;
   for (int k = 0; k < count && !runtime::stop_requested(); ++k) {
-    if (put(start + k * period, std::uint64_t(k))) ++w.written;
-    else ++w.refused;
+    if (put(start + k * period, std::uint64_t(k)))
+      ++w.written;
+    else
+      ++w.refused;
   }
   w.acked = acked();
   w.window_s = (runtime::mono_ns() - start) * 1e-9;
@@ -410,7 +415,8 @@ void mesh_round(const Context& c, const std::string& impl, int vertices, int rea
           dw->get_publication_matched_status(s);
           return s.current_count;
         },
-        [&](DeformedMesh& m) { return dw->write(&m); }, [&] { return dw->wait_for_acknowledgments(runtime::to_dds(ack)) == ReturnCode_t::RETCODE_OK; });
+        [&](DeformedMesh& m) { return dw->write(&m); },
+        [&] { return dw->wait_for_acknowledgments(runtime::to_dds(ack)) == ReturnCode_t::RETCODE_OK; });
     destroy(p);
   } else {
     runtime::Participant p(c.domain, "bench");
@@ -423,7 +429,8 @@ void mesh_round(const Context& c, const std::string& impl, int vertices, int rea
   t.startup_ms = std::max(t.startup_ms, w.startup_ms);
   for (int k = 0; k < readers; ++k) {
     if (!reap(pids[std::size_t(k)], 5))
-      throw std::runtime_error("bench dds: mesh reader " + std::to_string(k) + " failed; see " + files[std::size_t(k)].string());
+      throw std::runtime_error("bench dds: mesh reader " + std::to_string(k) + " failed; see " +
+                               files[std::size_t(k)].string());
     const Seen s = read_seen(files[std::size_t(k)]);
     if (s.received < count) say_missed(impl, k, count, s, w.acked);
     t.received += s.received, t.rejected += s.rejected, t.cpu_s += s.cpu_s;
@@ -433,7 +440,10 @@ void mesh_round(const Context& c, const std::string& impl, int vertices, int rea
 
 Row mesh_row(const std::string& impl, int vertices, int readers, const MeshTotals& t) {
   return {"mesh_pub",
-          {{"vertices", double(vertices)}, {"subscribers", double(readers)}, {"impl", impl}, {"rate_hz", kMeshRateHz},
+          {{"vertices", double(vertices)},
+           {"subscribers", double(readers)},
+           {"impl", impl},
+           {"rate_hz", kMeshRateHz},
            {"bytes", 24.0 * vertices}},
           {{"p50_ms", t.ms.percentile(0.5)},
            {"p99_ms", t.ms.percentile(0.99)},
@@ -471,9 +481,9 @@ std::vector<Row> dds_rows(const Context& c) {
         for (const bool first : {true, false}) {
           const bool is_bare = first == (round % 2 == 0);
           const std::string impl = is_bare ? "bare" : "hcosim";
-          progress("dds mesh_pub " + impl + ": " + std::to_string(vertices) + " vertices to " + std::to_string(readers) +
-                   " reader(s), round " + std::to_string(round + 1) + " of " + std::to_string(rounds) + ", " +
-                   std::to_string(count) + " samples at 60 Hz");
+          progress("dds mesh_pub " + impl + ": " + std::to_string(vertices) + " vertices to " +
+                   std::to_string(readers) + " reader(s), round " + std::to_string(round + 1) + " of " +
+                   std::to_string(rounds) + ", " + std::to_string(count) + " samples at 60 Hz");
           mesh_round(c, impl, vertices, readers, count, round, is_bare ? bare_t : ours_t);
         }
       const Row bare = mesh_row("bare", vertices, readers, bare_t);
@@ -525,7 +535,8 @@ int mesh_reader(const std::string& impl, int domain, int count, const fs::path& 
     runtime::Participant p(domain, "bench_mesh_reader");
     runtime::Rejections rejected;
     runtime::Reader<DeformedMesh> r(
-        p, [](const DeformedMesh& m) { return adapters::validate(m); }, &rejected, runtime::TopicOf<DeformedMesh>::qos, kReaderDepth);
+        p, [](const DeformedMesh& m) { return adapters::validate(m); }, &rejected, runtime::TopicOf<DeformedMesh>::qos,
+        kReaderDepth);
     while (!last && !runtime::stop_requested() && runtime::mono_ns() < end) {
       if (r.wait(std::chrono::milliseconds(20))) r.take([&](const DeformedMesh& m) { last = got(m) || last; });
     }
@@ -543,9 +554,8 @@ pid_t start_peer(const std::string& impl, int domain, double seconds, int priori
   const std::string self = fs::read_symlink("/proc/self/exe").string();
   const pid_t pid = fork();
   if (pid == 0) {
-    execl(self.c_str(), self.c_str(), "bench-peer", "--impl", impl.c_str(), "--domain",
-          std::to_string(domain).c_str(), "--duration", std::to_string(seconds + 30).c_str(), "--priority",
-          std::to_string(priority).c_str(), nullptr);
+    execl(self.c_str(), self.c_str(), "bench-peer", "--impl", impl.c_str(), "--domain", std::to_string(domain).c_str(),
+          "--duration", std::to_string(seconds + 30).c_str(), "--priority", std::to_string(priority).c_str(), nullptr);
     _exit(127);
   }
   return pid;
@@ -601,7 +611,6 @@ Rtt bare_rtt(int domain, double seconds, int priority) {
   return r;
 }
 
-
 Suite dds_suite() {
   Suite s{"dds",
           "the DDS transport between processes: 1 kHz haptic round trips and 60 Hz deformed meshes, hcosim's runtime "
@@ -617,9 +626,21 @@ Suite dds_suite() {
                "core; hcosim's runtime (with sample validation) against a bare Fast DDS writer and readers of the "
                "same bytes, transports and QoS, in alternating rounds; p99_split_ratio is one impl's p99 over its odd "
                "rounds against its even ones, how far two p99s of the same thing fall apart on this machine."}};
-  s.plots = {{"mesh_pub", "vertices", "p99_ms", "vertices per mesh", "p99 latency (ms)", {"impl", "subscribers"}, {},
+  s.plots = {{"mesh_pub",
+              "vertices",
+              "p99_ms",
+              "vertices per mesh",
+              "p99 latency (ms)",
+              {"impl", "subscribers"},
+              {},
               {"impl", "bare"}},
-             {"mesh_pub", "vertices", "cpu_pct", "vertices per mesh", "CPU (% of one core)", {"impl", "subscribers"}, {},
+             {"mesh_pub",
+              "vertices",
+              "cpu_pct",
+              "vertices per mesh",
+              "CPU (% of one core)",
+              {"impl", "subscribers"},
+              {},
               {"impl", "bare"}}};
   // Bare Fast DDS's own losses are the baseline's, reported beside ours.
   s.goals = {{"no sample lost with reliable QoS", "mesh_pub", "loss_ratio", 0, "impl", "hcosim"},
@@ -628,7 +649,8 @@ Suite dds_suite() {
 }
 
 int peer_command(const std::vector<std::string>& argv) {
-  const runtime::Args a = runtime::parse(argv, {"--impl", "--domain", "--duration", "--role", "--count", "--out", "--priority"}, {});
+  const runtime::Args a =
+      runtime::parse(argv, {"--impl", "--domain", "--duration", "--role", "--count", "--out", "--priority"}, {});
   const int domain = runtime::domain_of(a);
   // Before any participant, so that Fast DDS's threads get it too.
   runtime::apply({int(a.whole("--priority", 0, 0, 99)), -1});

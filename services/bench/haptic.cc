@@ -29,10 +29,10 @@
 #include <sstream>
 #include <thread>
 
+#include "adapters/device/wall_rig.h"
 #include "services/bench/bench.h"
 #include "services/bench/peer.h"
 #include "services/runtime/deployment.h"
-#include "adapters/device/wall_rig.h"
 #include "services/runtime/service.h"
 
 namespace hcosim::services::bench {
@@ -207,19 +207,27 @@ Suite haptic_suite() {
        "stiffness with 0 to 5 ms of force delay: the largest force, the device's net work on the tip (energy_out_j, "
        "positive is energy the device created), whether it settled, the settled depth's error and the force "
        "overshoot over the balance force."}};
-  s.plots = {{"wall", "delay_ms", "overshoot", "force delay (ms)", "force overshoot (fraction of the balance force)",
-              {"stiffness_n_per_m"}, {}, {}, false, false}};
-  s.goals = {{"the closed loop's p99 within 1.25 times bare Fast DDS's", "closed_loop_rtt", "p99_ratio_to_bare", 1.25},
-             {"at least 99.9% of ticks answered in time", "closed_loop_rtt", "on_time_ratio", 0.999, "", "", true},
-             {"at least 99.9% of the default scene's ticks answered by every source within the tick", "deployment",
-              "in_tick_ratio", 0.999, "", "", true},
-             {"the default scene's round-trip p99 within 1.5 times bare Fast DDS's beside it", "deployment",
-              "p99_ratio_to_bare", 1.5},
-             {"the device loop's wake-up jitter p99 at most 100 us in the default scene", "deployment", "jitter_p99_us",
-              100},
-             {"the rendered-force error p99 at most 5% of the peak force", "deployment", "force_error_share", 0.05},
-             {"every wall contact settles", "wall", "stable", 1, "", "", true},
-             {"no energy created by the wall (energy_out_j at most 1 mJ)", "wall", "energy_out_j", 1e-3}};
+  s.plots = {{"wall",
+              "delay_ms",
+              "overshoot",
+              "force delay (ms)",
+              "force overshoot (fraction of the balance force)",
+              {"stiffness_n_per_m"},
+              {},
+              {},
+              false,
+              false}};
+  s.goals = {
+      {"the closed loop's p99 within 1.25 times bare Fast DDS's", "closed_loop_rtt", "p99_ratio_to_bare", 1.25},
+      {"at least 99.9% of ticks answered in time", "closed_loop_rtt", "on_time_ratio", 0.999, "", "", true},
+      {"at least 99.9% of the default scene's ticks answered by every source within the tick", "deployment",
+       "in_tick_ratio", 0.999, "", "", true},
+      {"the default scene's round-trip p99 within 1.5 times bare Fast DDS's beside it", "deployment",
+       "p99_ratio_to_bare", 1.5},
+      {"the device loop's wake-up jitter p99 at most 100 us in the default scene", "deployment", "jitter_p99_us", 100},
+      {"the rendered-force error p99 at most 5% of the peak force", "deployment", "force_error_share", 0.05},
+      {"every wall contact settles", "wall", "stable", 1, "", "", true},
+      {"no energy created by the wall (energy_out_j at most 1 mJ)", "wall", "energy_out_j", 1e-3}};
   return s;
 }
 

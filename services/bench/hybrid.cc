@@ -22,9 +22,9 @@
 #include <algorithm>
 #include <chrono>
 
-#include "services/bench/bench.h"
-#include "models/deformable/hybrid.h"
 #include "adapters/deformable/mesh_idl.h"
+#include "models/deformable/hybrid.h"
+#include "services/bench/bench.h"
 
 namespace hcosim::services::bench {
 namespace {
@@ -119,8 +119,8 @@ std::vector<Row> visual_rows(bool quick) {
     int subdivisions;
     double exponent;
   };
-  const std::vector<Shape> shapes = quick ? std::vector<Shape>{{"box", 10, 8}}
-                                          : std::vector<Shape>{{"box", 10, 8}, {"box", 30, 8}, {"organ", 25, 2}};
+  const std::vector<Shape> shapes =
+      quick ? std::vector<Shape>{{"box", 10, 8}} : std::vector<Shape>{{"box", 10, 8}, {"box", 30, 8}, {"organ", 25, 2}};
   for (const Shape& shape : shapes) {
     double trilinear_ms = 0;
     for (VisualMap m : {VisualMap::trilinear, VisualMap::mvc, VisualMap::mvc_sparse}) {
@@ -148,12 +148,13 @@ std::vector<Row> visual_rows(bool quick) {
       }
       const double median = quantile(ms, 0.5);
       if (m == VisualMap::trilinear) trilinear_ms = median;
-      rows.push_back({"visual_map",
-                      {{"method", std::string(name(m))}, {"shape", std::string(shape.name)}, {"vertices", double(v.cols())}},
-                      {{"ms", median},
-                       {"ms_ratio_to_trilinear", median / trilinear_ms},
-                       {"rel_error", std::sqrt(err / disp)},
-                       {"weights", double(h.map().nonZeros())}}});
+      rows.push_back(
+          {"visual_map",
+           {{"method", std::string(name(m))}, {"shape", std::string(shape.name)}, {"vertices", double(v.cols())}},
+           {{"ms", median},
+            {"ms_ratio_to_trilinear", median / trilinear_ms},
+            {"rel_error", std::sqrt(err / disp)},
+            {"weights", double(h.map().nonZeros())}}});
     }
   }
   return rows;
@@ -167,7 +168,8 @@ Row force_row() {
   for (double depth = 0.001; depth <= 0.0051; depth += 0.001) {
     SChain chain(hybrid_chains(s), s.relax_rate, s.limit_stiffness);
     const Eigen::Vector3d rest = chain.lattice().rest(e);
-    for (int k = 0; k < 300; ++k) chain.tick(1e-3, e, rest - Eigen::Vector3d(0, 0, depth * std::min(1.0, (k + 1) / 100.0)));
+    for (int k = 0; k < 300; ++k)
+      chain.tick(1e-3, e, rest - Eigen::Vector3d(0, 0, depth * std::min(1.0, (k + 1) / 100.0)));
     const double behavior = behavior_static_force(s, e, Eigen::Vector3d(0, 0, -depth)).z();
     worst = std::max(worst, std::abs(chain.force().z() / behavior - 1));
   }
@@ -179,10 +181,12 @@ std::vector<Row> hybrid_rows(const Context& c) {
   const std::vector<int> sizes = c.quick ? std::vector<int>{10, 22} : std::vector<int>{10, 22, 46};
   for (const int n : sizes)
     for (const double depth : {0.004, 0.012, 0.03}) {
-      progress("hybrid schain_tick: " + std::to_string(n * n * n) + " elements, " + std::to_string(int(depth * 1e3)) + " mm");
+      progress("hybrid schain_tick: " + std::to_string(n * n * n) + " elements, " + std::to_string(int(depth * 1e3)) +
+               " mm");
       rows.push_back(schain_row(n, depth));
     }
-  for (const std::string& scale : c.quick ? std::vector<std::string>{"seed"} : std::vector<std::string>{"seed", "100x"}) {
+  for (const std::string& scale :
+       c.quick ? std::vector<std::string>{"seed"} : std::vector<std::string>{"seed", "100x"}) {
     progress("hybrid pipeline at " + scale + " scale (building the map)");
     rows.push_back(pipeline_row(scale));
   }
@@ -216,8 +220,14 @@ Suite hybrid_suite() {
       {"force_vs_behavior",
        "The S-Chain force against the behavior model's static force at the same depth, 1 to 5 mm at the top "
        "centre: the largest relative difference."}};
-  s.plots = {{"visual_map", "ms", "rel_error", "ms per visual frame (median)", "relative error", {"method"},
-              {"shape", "vertices"}, {"method", "trilinear"}},
+  s.plots = {{"visual_map",
+              "ms",
+              "rel_error",
+              "ms per visual frame (median)",
+              "relative error",
+              {"method"},
+              {"shape", "vertices"},
+              {"method", "trilinear"}},
              {"schain_tick", "moved", "p50_us", "chains moved", "us per tick (p50)", {"elements"}, {}, {}}};
   s.goals = {{"haptic tick p99 within 100 us at 001's scale", "pipeline", "haptic_p99_us", 100, "scale", "seed"},
              {"haptic tick p99 within 200 us at 100 times that", "pipeline", "haptic_p99_us", 200, "scale", "100x"},

@@ -15,9 +15,9 @@
 #include <map>
 #include <sstream>
 
-#include "services/bench/bench.h"
 #include "models/massspring/mujoco_lattice.h"
 #include "models/massspring/simulator.h"
+#include "services/bench/bench.h"
 
 namespace hcosim::services::bench {
 namespace {
@@ -94,7 +94,8 @@ Trace run_ours(const Scene& sc, const ms::Options& o) {
 Trace run_mujoco(const Scene& sc, double dt, const char* integrator) {
   ms::MujocoLattice mj(sc.lattice, dt, integrator);
   const std::vector<ms::PointForce> press{{sc.contact, sc.force}}, none;
-  Trace t = timeline(dt, [&](bool loaded) { mj.step(loaded ? press : none); }, [&] { return mj.positions(); });
+  Trace t = timeline(
+      dt, [&](bool loaded) { mj.step(loaded ? press : none); }, [&] { return mj.positions(); });
   t.simulated = 1;
   return t;
 }
@@ -147,13 +148,19 @@ std::vector<Row> scene_rows(const Scene& sc, const Context& c) {
   const Trace finer = run_ours(sc, ro);
   const double ref_self_error = rel_error(sc, finer, ref);
   rows.push_back({"reference",
-                  {{"lattice", sc.name}, {"shape", sc.shape}, {"masses", double(sc.lattice.size())},
-                   {"springs", double(sc.lattice.springs.size())}, {"integrator", std::string("rk4")}, {"dt", ref_dt}},
+                  {{"lattice", sc.name},
+                   {"shape", sc.shape},
+                   {"masses", double(sc.lattice.size())},
+                   {"springs", double(sc.lattice.springs.size())},
+                   {"integrator", std::string("rk4")},
+                   {"dt", ref_dt}},
                   {{"ref_self_error", ref_self_error}, {"omega_max_rad_s", spec.omega_max}}});
 
   std::vector<Config> configs;
-  const std::vector<double> explicit_dt = c.quick ? std::vector<double>{1e-3, 5e-4} : std::vector<double>{1e-3, 5e-4, 2.5e-4};
-  const std::vector<double> implicit_dt = c.quick ? std::vector<double>{4e-3, 1e-3} : std::vector<double>{4e-3, 2e-3, 1e-3, 5e-4};
+  const std::vector<double> explicit_dt =
+      c.quick ? std::vector<double>{1e-3, 5e-4} : std::vector<double>{1e-3, 5e-4, 2.5e-4};
+  const std::vector<double> implicit_dt =
+      c.quick ? std::vector<double>{4e-3, 1e-3} : std::vector<double>{4e-3, 2e-3, 1e-3, 5e-4};
   for (auto in : {ms::Integrator::symplectic_euler, ms::Integrator::velocity_verlet, ms::Integrator::rk4})
     for (double dt : explicit_dt) configs.push_back({in, dt, 0});
   for (auto in : {ms::Integrator::implicit_euler, ms::Integrator::local_global})
@@ -163,11 +170,15 @@ std::vector<Row> scene_rows(const Scene& sc, const Context& c) {
     configs.push_back({ms::Integrator::velocity_verlet, 1e-3, th});
   }
   std::map<std::string, double> over_budget;  // label and threshold -> dt that was
-  auto add_row = [&](const std::string& integrator, double dt, double threshold,
-                     const Trace& t, const std::string& mujoco_integrator = "") {
+  auto add_row = [&](const std::string& integrator, double dt, double threshold, const Trace& t,
+                     const std::string& mujoco_integrator = "") {
     Row r{"step",
-          {{"lattice", sc.name}, {"shape", sc.shape}, {"masses", double(sc.lattice.size())},
-           {"integrator", integrator}, {"dt", dt}, {"threshold", threshold}},
+          {{"lattice", sc.name},
+           {"shape", sc.shape},
+           {"masses", double(sc.lattice.size())},
+           {"integrator", integrator},
+           {"dt", dt},
+           {"threshold", threshold}},
           {{"ms_per_sim_s", 1e3 * t.wall_s / kDuration},
            {"rel_error", rel_error(sc, t, ref)},
            {"simulated_fraction", t.simulated},
@@ -202,7 +213,8 @@ std::vector<Row> scene_rows(const Scene& sc, const Context& c) {
         continue;
       }
     }
-    progress(sc.name + ": " + label + " dt " + fmt(cf.dt) + (cf.threshold > 0 ? " threshold " + fmt(cf.threshold) : ""));
+    progress(sc.name + ": " + label + " dt " + fmt(cf.dt) +
+             (cf.threshold > 0 ? " threshold " + fmt(cf.threshold) : ""));
     add_row(ms::name(cf.integrator), cf.dt, cf.threshold, measure([&] { return run_ours(sc, o); }, reps));
   }
   // MuJoCo on the same lattice, where version 2.2.2 can hold it.
@@ -224,14 +236,14 @@ std::vector<Row> scene_rows(const Scene& sc, const Context& c) {
     const double mj_ms = rows[m].metrics[0].second, mj_err = rows[m].metrics[1].second;
     const Row* best = nullptr;
     for (std::size_t k = 1; k < first_mujoco; ++k)
-      if (rows[k].metrics[1].second <= mj_err + ref_self_error && (!best || rows[k].metrics[0].second < best->metrics[0].second))
+      if (rows[k].metrics[1].second <= mj_err + ref_self_error &&
+          (!best || rows[k].metrics[0].second < best->metrics[0].second))
         best = &rows[k];
     if (!best) continue;
     rows[m].metrics.push_back({"speedup_at_equal_error", mj_ms / best->metrics[0].second});
     std::string match;
     for (const auto& [k, v] : best->params)
-      if (k == "integrator" || k == "dt" || k == "threshold")
-        match += (match.empty() ? "" : " ") + k + "=" + text(v);
+      if (k == "integrator" || k == "dt" || k == "threshold") match += (match.empty() ? "" : " ") + k + "=" + text(v);
     rows[m].params.push_back({"matched_by", match});
   }
   return rows;
@@ -270,11 +282,18 @@ Suite massspring_suite() {
                "reference, per integrator, step and adaptive threshold (simulated_fraction: masses simulated), and "
                "MuJoCo on the same lattice; speedup_at_equal_error is MuJoCo's time over our fastest row with no "
                "larger error, in the same run."}};
-  s.plots = {{"step", "ms_per_sim_s", "rel_error", "wall ms per simulated s", "relative error",
-              {"integrator", "mujoco_integrator", "threshold"}, {"lattice"}, {"integrator", "mujoco"}}};
-  s.goals = {{"every MuJoCo row matched at equal or lower error by one of ours at least 20 times faster, on the "
-              "largest lattice both run",
-              "step", "speedup_at_equal_error", 20, "lattice", "dome4097", true}};
+  s.plots = {{"step",
+              "ms_per_sim_s",
+              "rel_error",
+              "wall ms per simulated s",
+              "relative error",
+              {"integrator", "mujoco_integrator", "threshold"},
+              {"lattice"},
+              {"integrator", "mujoco"}}};
+  s.goals = {
+      {"every MuJoCo row matched at equal or lower error by one of ours at least 20 times faster, on the "
+       "largest lattice both run",
+       "step", "speedup_at_equal_error", 20, "lattice", "dome4097", true}};
   return s;
 }
 

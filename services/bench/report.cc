@@ -18,9 +18,9 @@
 #include <Eigen/Core>
 #include <opencv2/core/version.hpp>
 
-#include "services/bench/bench.h"
-#include "models/render/plot.h"
 #include "adapters/vision/media.h"
+#include "models/render/plot.h"
+#include "services/bench/bench.h"
 
 namespace fs = std::filesystem;
 
@@ -35,10 +35,14 @@ std::string text(double v) {
 }
 
 std::string text(const Value& v) {
-  return std::visit([](const auto& x) -> std::string {
-    if constexpr (std::is_same_v<std::decay_t<decltype(x)>, double>) return text(x);
-    else return x;
-  }, v);
+  return std::visit(
+      [](const auto& x) -> std::string {
+        if constexpr (std::is_same_v<std::decay_t<decltype(x)>, double>)
+          return text(x);
+        else
+          return x;
+      },
+      v);
 }
 
 namespace {
@@ -149,7 +153,8 @@ std::vector<Figure> draw_plots(const Suite& s, const std::vector<Row>& rows, con
       const fs::path file = dir / (stem + ".png");
       // The axes name the quantities; the title only says which rows.
       const std::string title = std::string(s.name) + " " + p.row + (group.empty() ? "" : ", " + group);
-      adapters::vision::write_image(file.string(), models::render::plot_scatter(title, p.x_label, p.y_label, series, {p.log_x, p.log_y}));
+      adapters::vision::write_image(
+          file.string(), models::render::plot_scatter(title, p.x_label, p.y_label, series, {p.log_x, p.log_y}));
       std::cout << "wrote " << file.string() << "\n";
       out.push_back({p.row, file, title + ": " + p.y_label + " against " + p.x_label});
     }
@@ -220,8 +225,7 @@ Verdict judge(const Goal& g, const std::vector<Row>& rows) {
 void goal(std::ostream& md, const Goal& g, const std::vector<Row>& rows) {
   const Verdict v = judge(g, rows);
   md << "- Goal: " << g.text << " (`" << g.metric << "` at " << (g.at_least ? "least " : "most ") << text(g.bound)
-     << " in every `" << g.row << "` row"
-     << (g.where.empty() ? "" : " with " + g.where + " " + g.is) << "): ";
+     << " in every `" << g.row << "` row" << (g.where.empty() ? "" : " with " + g.where + " " + g.is) << "): ";
   if (v.rows == 0) {
     md << "**not measured** (no such row)\n";
     return;
@@ -253,10 +257,13 @@ void write_index(const fs::path& dir, const std::vector<Result>& results, const 
     std::string goals;
     for (const Goal& g : r.suite->goals) {
       const Verdict v = judge(g, r.rows);
-      goals += (goals.empty() ? "" : "; ") + g.text + ": " + (v.rows == 0 ? "not measured" : v.met() ? "met" : "**not met**");
+      goals += (goals.empty() ? "" : "; ") + g.text + ": " +
+               (v.rows == 0 ? "not measured"
+                : v.met()   ? "met"
+                            : "**not met**");
     }
-    md << "| [" << r.suite->name << "](#" << r.suite->name << ") | " << md_cell(r.suite->what) << " | "
-       << r.rows.size() << " | " << (std::isnan(r.seconds) ? "" : text(std::round(r.seconds))) << " | "
+    md << "| [" << r.suite->name << "](#" << r.suite->name << ") | " << md_cell(r.suite->what) << " | " << r.rows.size()
+       << " | " << (std::isnan(r.seconds) ? "" : text(std::round(r.seconds))) << " | "
        << (r.error.empty() ? goals : "failed: " + md_cell(r.error)) << " |\n";
   }
   md << "\n";
@@ -295,7 +302,8 @@ void write_index(const fs::path& dir, const std::vector<Result>& results, const 
   md << "## Machine\n\n| | |\n|---|---|\n";
   const Machine first = results.empty() ? machine() : results.front().machine;
   std::string earliest = date_of(first), latest = earliest;  // ISO 8601 dates sort as text
-  for (const Result& r : results) earliest = std::min(earliest, date_of(r.machine)), latest = std::max(latest, date_of(r.machine));
+  for (const Result& r : results)
+    earliest = std::min(earliest, date_of(r.machine)), latest = std::max(latest, date_of(r.machine));
   for (const auto& [k, v] : first) {
     std::string value = v;
     if (k == "date" && earliest != latest) value = "suites started from " + earliest + " to " + latest;

@@ -18,8 +18,8 @@
 #include <chrono>
 #include <cmath>
 
-#include "services/bench/bench.h"
 #include "models/rigid/crosscheck.h"
+#include "services/bench/bench.h"
 
 namespace hcosim::services::bench {
 namespace {
@@ -86,7 +86,8 @@ std::vector<Row> accuracy_rows(bool quick) {
     for (const double dt_ms : {2.0, 1.0, 0.5, 0.2, 0.1}) {
       const Eq2 e = eq2(mujoco, dt_ms * 1e-3, n);
       rows.push_back({"accuracy",
-                      {{"backend", std::string(mujoco ? "mujoco" : "analytic")}, {"dt_ms", dt_ms},
+                      {{"backend", std::string(mujoco ? "mujoco" : "analytic")},
+                       {"dt_ms", dt_ms},
                        {"impact_parameters", double(n)}},
                       {{"ms_per_sim_s", e.ms_per_sim_s}, {"max_abs_err", e.max_abs_err}}});
     }
@@ -99,17 +100,17 @@ std::vector<Row> crosscheck_rows() {
     for (const Scenario& s : scenarios()) {
       const Divergence d = crosscheck(s, dt);
       rows.push_back({"crosscheck",
-                    {{"scenario", s.name}, {"dt_ms", dt * 1e3}},
-                    {{"rel_vel_err", d.rel_vel_err},
-                     {"rel_angvel_err", d.rel_angvel_err},
-                     {"tolerance", s.tolerance},
-                     {"position_err_m", d.position_m},
-                     {"analytic_momentum_drift", d.momentum_drift[0]},
-                     {"mujoco_momentum_drift", d.momentum_drift[1]},
-                     {"analytic_angmom_drift", d.angular_momentum_drift[0]},
-                     {"mujoco_angmom_drift", d.angular_momentum_drift[1]},
-                     {"analytic_energy_change", d.energy_change[0]},
-                     {"mujoco_energy_change", d.energy_change[1]}}});
+                      {{"scenario", s.name}, {"dt_ms", dt * 1e3}},
+                      {{"rel_vel_err", d.rel_vel_err},
+                       {"rel_angvel_err", d.rel_angvel_err},
+                       {"tolerance", s.tolerance},
+                       {"position_err_m", d.position_m},
+                       {"analytic_momentum_drift", d.momentum_drift[0]},
+                       {"mujoco_momentum_drift", d.momentum_drift[1]},
+                       {"analytic_angmom_drift", d.angular_momentum_drift[0]},
+                       {"mujoco_angmom_drift", d.angular_momentum_drift[1]},
+                       {"analytic_energy_change", d.energy_change[0]},
+                       {"mujoco_energy_change", d.energy_change[1]}}});
     }
   return rows;
 }
@@ -151,7 +152,9 @@ std::vector<Row> step_rows(bool quick) {
       }
     }
     const double base = median(mj);
-    rows.push_back({"step", {{"backend", std::string("mujoco")}, {"bodies", double(n)}}, {{"us_per_step", base}, {"ratio_to_mujoco", 1.0}}});
+    rows.push_back({"step",
+                    {{"backend", std::string("mujoco")}, {"bodies", double(n)}},
+                    {{"us_per_step", base}, {"ratio_to_mujoco", 1.0}}});
     for (const bool sleep : {true, false}) {
       WorldSpec s = spec;
       if (!sleep) s.sleep_time = 1e9;
@@ -203,11 +206,21 @@ Suite rigid_suite() {
        "and each model's momentum, angular momentum and energy change."},
       {"step",
        "One 1 ms step of a row of bodies resting on the marker plane with the tip sweeping across them: median over "
-       "300 (quick) or 1000 steps per backend, MuJoCo the baseline in the same run; analytic bodies sleep when at rest, "
+       "300 (quick) or 1000 steps per backend, MuJoCo the baseline in the same run; analytic bodies sleep when at "
+       "rest, "
        "analytic_awake is the same with sleep off."}};
-  s.plots = {{"accuracy", "ms_per_sim_s", "max_abs_err", "wall ms per simulated s", "largest velocity error (m/s)",
-              {"backend"}, {}, {"backend", "mujoco"}, true, false},
-             {"step", "bodies", "us_per_step", "bodies", "us per step (median)", {"backend"}, {}, {"backend", "mujoco"}}};
+  s.plots = {
+      {"accuracy",
+       "ms_per_sim_s",
+       "max_abs_err",
+       "wall ms per simulated s",
+       "largest velocity error (m/s)",
+       {"backend"},
+       {},
+       {"backend", "mujoco"},
+       true,
+       false},
+      {"step", "bodies", "us_per_step", "bodies", "us per step (median)", {"backend"}, {}, {"backend", "mujoco"}}};
   return s;
 }
 

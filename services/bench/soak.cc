@@ -72,8 +72,8 @@ std::vector<Row> soak_rows(const Context& c) {
   const fs::path dir = fs::absolute(c.out / "soak_run");
   fs::create_directories(dir);
   const fs::path file = default_deployment(dir, c.domain, total, 0), log = dir / "up.log";  // the bench stops it
-  progress("soak: the default deployment in real time for " + text(total) + " s, a row every " + text(window) +
-           " s (" + dir.string() + ")");
+  progress("soak: the default deployment in real time for " + text(total) + " s, a row every " + text(window) + " s (" +
+           dir.string() + ")");
 
   runtime::install_stop_handlers();  // Ctrl-C stops the deployment too, and ends the suite
   runtime::Participant p(c.domain, "bench_soak");
@@ -137,16 +137,21 @@ std::vector<Row> soak_rows(const Context& c) {
       if (sent.size() > 4000)
         for (auto it = sent.begin(); it != sent.end();) it = now - it->second > 1'000'000'000 ? sent.erase(it) : ++it;
     }
-    if (waitpid(up, nullptr, WNOHANG) == up) throw std::runtime_error("soak: the deployment ended early:\n" + tail(log));
+    if (waitpid(up, nullptr, WNOHANG) == up)
+      throw std::runtime_error("soak: the deployment ended early:\n" + tail(log));
     double rss = 0;
     for (const auto& [name, pid] : pids) rss += rss_kb(pid);
     double over = 0, haptic_over = 0;
     for (const auto& [name, n] : overruns) over += double(n), haptic_over += haptic.count(name) ? double(n) : 0;
     const double l = lost();
-    rows.push_back({"window", {{"t_s", w * window}},
-                    {{"rss_mb", rss / 1024}, {"overruns", over - overruns_before},
-                     {"haptic_overruns", haptic_over - haptic_before}, {"reliable_lost", l - lost_before},
-                     {"haptic_rtt_p50_us", rtt_us.percentile(0.5)}, {"haptic_rtt_p99_us", rtt_us.percentile(0.99)},
+    rows.push_back({"window",
+                    {{"t_s", w * window}},
+                    {{"rss_mb", rss / 1024},
+                     {"overruns", over - overruns_before},
+                     {"haptic_overruns", haptic_over - haptic_before},
+                     {"reliable_lost", l - lost_before},
+                     {"haptic_rtt_p50_us", rtt_us.percentile(0.5)},
+                     {"haptic_rtt_p99_us", rtt_us.percentile(0.99)},
                      {"answers", double(rtt_us.size())}}});
     progress("soak: " + text(w * window) + " s: rss " + text(rss / 1024) + " MB, haptic round trip p99 " +
              text(rtt_us.percentile(0.99)) + " us, " + text(l - lost_before) + " lost, " +
@@ -165,9 +170,11 @@ std::vector<Row> soak_rows(const Context& c) {
   const Row& last = rows.back();
   double lost_all = 0, over_all = 0, haptic_all = 0;
   for (const Row& r : rows)
-    lost_all += metric(r, "reliable_lost"), over_all += metric(r, "overruns"), haptic_all += metric(r, "haptic_overruns");
+    lost_all += metric(r, "reliable_lost"), over_all += metric(r, "overruns"),
+        haptic_all += metric(r, "haptic_overruns");
   const double p99_0 = metric(first, "haptic_rtt_p99_us");
-  rows.push_back({"summary", {{"seconds", total}},
+  rows.push_back({"summary",
+                  {{"seconds", total}},
                   {{"rss_growth_pct", 100 * (metric(last, "rss_mb") / metric(first, "rss_mb") - 1)},
                    {"reliable_lost", lost_all},
                    {"p99_drift_pct", 100 * std::abs(metric(last, "haptic_rtt_p99_us") - p99_0) / p99_0},
@@ -219,20 +226,23 @@ fs::path default_deployment(const fs::path& dir, int domain, double seconds, dou
 }
 
 Suite soak_suite() {
-  Suite s{"soak", "the default deployment in real time for 30 min (1 with --quick): memory, loss, overruns, haptic "
-                  "round trip over time",
+  Suite s{"soak",
+          "the default deployment in real time for 30 min (1 with --quick): memory, loss, overruns, haptic "
+          "round trip over time",
           soak_rows};
   s.alone = true;
-  s.tables = {{"window",
-               "deploy/default.yaml's scene and services in real time, the tour played again and again, one row per "
-               "window: the services' resident memory at its end (sum of VmRSS), their overruns in it (ServiceStatus), "
-               "samples Fast DDS reports lost to the bench's readers of DeformedMesh, RigidBodyState, MarkerPose and "
-               "ServiceStatus (reliable), haptic_overruns those of the haptic-rate services (haptic, rigid, deformable: "
-               "the ones whose haptic threads run first), and the haptic round trip the bench sees (HapticState sent, by its stamp, "
-               "to each ForceFeedback answering it received), p50 and p99 over the window."},
-              {"summary",
-               "The whole run: rss_growth_pct is the last window's memory against the first's, p99_drift_pct the "
-               "last window's round-trip p99 against the first's (absolute), reliable_lost and overruns summed."}};
+  s.tables = {
+      {"window",
+       "deploy/default.yaml's scene and services in real time, the tour played again and again, one row per "
+       "window: the services' resident memory at its end (sum of VmRSS), their overruns in it (ServiceStatus), "
+       "samples Fast DDS reports lost to the bench's readers of DeformedMesh, RigidBodyState, MarkerPose and "
+       "ServiceStatus (reliable), haptic_overruns those of the haptic-rate services (haptic, rigid, deformable: "
+       "the ones whose haptic threads run first), and the haptic round trip the bench sees (HapticState sent, by its "
+       "stamp, "
+       "to each ForceFeedback answering it received), p50 and p99 over the window."},
+      {"summary",
+       "The whole run: rss_growth_pct is the last window's memory against the first's, p99_drift_pct the "
+       "last window's round-trip p99 against the first's (absolute), reliable_lost and overruns summed."}};
   s.plots = {{"window", "t_s", "haptic_rtt_p99_us", "time (s)", "haptic round trip p99 (us)", {}, {}, {}, false, false},
              {"window", "t_s", "rss_mb", "time (s)", "services' resident memory (MB)", {}, {}, {}, false, false}};
   s.goals = {{"memory grows under 1% from the first window to the last", "summary", "rss_growth_pct", 1},

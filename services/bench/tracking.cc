@@ -21,10 +21,10 @@
 #include <opencv2/aruco.hpp>
 #include <opencv2/core/utility.hpp>
 
-#include "services/bench/bench.h"
 #include "models/vision/detector.h"
 #include "models/vision/pose.h"
 #include "models/vision/synthetic.h"
+#include "services/bench/bench.h"
 
 namespace hcosim::services::bench {
 namespace {
@@ -61,28 +61,33 @@ std::vector<Candidate> candidates(bool quick) {
     p.quad_decimate = dec;
     p.quad_sigma = sigma;
     auto d = std::make_shared<Detector>(p);
-    out.push_back({"apriltag", dec, sigma, [d](const cv::Mat& f, Corners& c) {
+    out.push_back({"apriltag", dec, sigma,
+                   [d](const cv::Mat& f, Corners& c) {
                      for (const Detection& x : d->detect(f))
                        if (x.id == 0) return c = x.corners, true;
                      return false;
-                   }, PoseOptions{}});
+                   },
+                   PoseOptions{}});
   }
   DetectorParams plain;
   plain.quad_decimate = 2;  // libapriltag's default
   plain.refine_corners = false;
   auto d = std::make_shared<Detector>(plain);
-  out.push_back({"apriltag_plain", plain.quad_decimate, 0, [d](const cv::Mat& f, Corners& c) {
+  out.push_back({"apriltag_plain", plain.quad_decimate, 0,
+                 [d](const cv::Mat& f, Corners& c) {
                    for (const Detection& x : d->detect(f))
                      if (x.id == 0) {
                        for (std::size_t k = 0; k < 4; ++k) c[k] = x.corners[k] + Eigen::Vector2d(0.5, 0.5);
                        return true;
                      }
                    return false;
-                 }, PoseOptions{false, 1.5}});
+                 },
+                 PoseOptions{false, 1.5}});
   auto dict = cv::aruco::getPredefinedDictionary(cv::aruco::DICT_APRILTAG_36h11);
   auto params = cv::aruco::DetectorParameters::create();
   params->cornerRefinementMethod = cv::aruco::CORNER_REFINE_SUBPIX;
-  out.push_back({"aruco", 0, 0, [dict, params](const cv::Mat& f, Corners& c) {
+  out.push_back({"aruco", 0, 0,
+                 [dict, params](const cv::Mat& f, Corners& c) {
                    std::vector<std::vector<cv::Point2f>> corners;
                    std::vector<int> ids;
                    cv::aruco::detectMarkers(f, dict, corners, ids, params);
@@ -100,7 +105,8 @@ std::vector<Candidate> candidates(bool quick) {
                        return true;
                      }
                    return false;
-                 }, PoseOptions{}});
+                 },
+                 PoseOptions{}});
   return out;
 }
 
@@ -110,7 +116,8 @@ std::vector<Row> tracking_rows(const Context& ctx) {
   const Marker marker;
   std::vector<Candidate> all = candidates(ctx.quick);
   std::vector<Row> rows;
-  for (const cv::Size size : ctx.quick ? std::vector<cv::Size>{{640, 480}} : std::vector<cv::Size>{{640, 480}, {1280, 720}}) {
+  for (const cv::Size size :
+       ctx.quick ? std::vector<cv::Size>{{640, 480}} : std::vector<cv::Size>{{640, 480}, {1280, 720}}) {
     const Intrinsics k = synthetic_intrinsics(size.width, size.height);
     const SyntheticCamera camera(k, marker);
     const std::vector<Eigen::Isometry3d> poses = random_poses(k, marker.tag_size, n, 7);
@@ -118,13 +125,15 @@ std::vector<Row> tracking_rows(const Context& ctx) {
     for (const std::string condition_name : {"clean", "noisy", "blurred"}) {
       progress("tracking: rendering " + std::to_string(n) + " " + condition_name + " frames at " + resolution);
       std::vector<cv::Mat> frames;
-      for (int i = 0; i < n; ++i) frames.push_back(camera.render(poses[std::size_t(i)], condition(condition_name), std::uint64_t(i)));
+      for (int i = 0; i < n; ++i)
+        frames.push_back(camera.render(poses[std::size_t(i)], condition(condition_name), std::uint64_t(i)));
       std::vector<Row> group;
       double aruco_ms = 0;
       for (const Candidate& c : all) {
-        progress("tracking: " + c.name + (c.decimate > 0 ? " decimate " + std::to_string(c.decimate).substr(0, 3) : "") +
-                 (c.sigma > 0 ? " sigma " + std::to_string(c.sigma).substr(0, 3) : "") +
-                 ", " + condition_name + " " + resolution);
+        progress("tracking: " + c.name +
+                 (c.decimate > 0 ? " decimate " + std::to_string(c.decimate).substr(0, 3) : "") +
+                 (c.sigma > 0 ? " sigma " + std::to_string(c.sigma).substr(0, 3) : "") + ", " + condition_name + " " +
+                 resolution);
         std::vector<double> ms, trans, rot, corner;
         int found = 0;
         for (int i = 0; i < n; ++i) {
@@ -139,14 +148,18 @@ std::vector<Row> tracking_rows(const Context& ctx) {
           ++found;
           const std::vector<Eigen::Vector2d> expected = camera.corners(truth);
           for (std::size_t j = 0; j < 4; ++j) corner.push_back((got[j] - expected[j]).norm());
-          trans.push_back(100 * (pose.tag_in_camera.translation() - truth.translation()).norm() / truth.translation().norm());
+          trans.push_back(100 * (pose.tag_in_camera.translation() - truth.translation()).norm() /
+                          truth.translation().norm());
           rot.push_back(angle_between(pose.tag_in_camera.linear(), truth.linear()) * 180 / std::acos(-1.0));
         }
         const double median_ms = percentile(ms, 0.5);
         if (c.name == "aruco") aruco_ms = median_ms;
         group.push_back({"detect",
-                         {{"detector", c.name}, {"resolution", resolution}, {"decimate", c.decimate},
-                          {"sigma", c.sigma}, {"condition", condition_name}},
+                         {{"detector", c.name},
+                          {"resolution", resolution},
+                          {"decimate", c.decimate},
+                          {"sigma", c.sigma},
+                          {"condition", condition_name}},
                          {{"ms_per_frame", median_ms},
                           {"detection_rate", double(found) / n},
                           {"trans_err_p95_pct", percentile(trans, 0.95)},
@@ -176,8 +189,13 @@ Suite tracking_suite() {
                "95th-percentile errors against the truth; apriltag is hcosim's path (edge-refitted corners, refined "
                "IPPE), apriltag_plain libapriltag as most call it, aruco OpenCV's detector on the same frames, the "
                "baseline of speed_ratio_to_aruco."}};
-  s.plots = {{"detect", "ms_per_frame", "trans_err_p95_pct", "ms per frame (median)",
-              "translation error p95 (% of distance)", {"detector", "decimate", "sigma"}, {"resolution", "condition"},
+  s.plots = {{"detect",
+              "ms_per_frame",
+              "trans_err_p95_pct",
+              "ms per frame (median)",
+              "translation error p95 (% of distance)",
+              {"detector", "decimate", "sigma"},
+              {"resolution", "condition"},
               {"detector", "aruco"}}};
   s.goals = {{"hcosim's path within 0.2% of the distance (p95) on every sequence", "detect", "trans_err_p95_pct", 0.2,
               "detector", "apriltag"},

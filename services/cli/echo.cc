@@ -4,8 +4,8 @@
 #include <iostream>
 #include <stdexcept>
 
-#include "services/cli/cli.h"
 #include "adapters/idl_json.h"
+#include "services/cli/cli.h"
 #include "services/runtime/service.h"
 
 namespace hcosim::services::cli {
@@ -83,8 +83,8 @@ int hz(const std::vector<std::string>& argv) {
       } else {
         const double rate = double(total - 1) * 1e9 / double(last - first);
         std::printf("%s: %.2f Hz over %llu samples, period p50 %.3f ms p99 %.3f ms max %.3f ms\n",
-                    a.positional[0].c_str(), rate, static_cast<unsigned long long>(total),
-                    periods_ms.percentile(0.5), periods_ms.percentile(0.99), periods_ms.percentile(1.0));
+                    a.positional[0].c_str(), rate, static_cast<unsigned long long>(total), periods_ms.percentile(0.5),
+                    periods_ms.percentile(0.99), periods_ms.percentile(1.0));
       }
       std::fflush(stdout);
     };
@@ -92,8 +92,10 @@ int hz(const std::vector<std::string>& argv) {
       if (reader.wait(std::chrono::milliseconds(50)))
         reader.take([&](const T&) {
           const std::int64_t now = runtime::mono_ns();
-          if (total == 0) first = now;
-          else periods_ms.add((now - last) * 1e-6);
+          if (total == 0)
+            first = now;
+          else
+            periods_ms.add((now - last) * 1e-6);
           last = now;
           ++total;
         });

@@ -4,19 +4,19 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
-#include <iostream>
 #include <functional>
+#include <iostream>
 #include <map>
 #include <memory>
 #include <regex>
-#include <thread>
 #include <stdexcept>
+#include <thread>
 #include <tuple>
 
 #include <yaml-cpp/yaml.h>
 
-#include "services/cli/cli.h"
 #include "adapters/idl_json.h"
+#include "services/cli/cli.h"
 #include "services/runtime/recording.h"
 #include "services/runtime/service.h"
 
@@ -45,7 +45,8 @@ Key key_of(const runtime::Record& r) {
     T s = runtime::from_cdr<T>(r.cdr);
     typename runtime::TopicOf<T>::PubSub type;
     eprosima::fastrtps::rtps::InstanceHandle_t h;
-    if (type.m_isGetKeyDefined && type.getKey(&s, &h, false)) for (std::size_t i = 0; i < k.size(); ++i) k[i] = h.value[i];
+    if (type.m_isGetKeyDefined && type.getKey(&s, &h, false))
+      for (std::size_t i = 0; i < k.size(); ++i) k[i] = h.value[i];
   });
   return k;
 }
@@ -64,7 +65,8 @@ int export_recording(const std::vector<std::string>& argv) {
   if (a.positional.size() != 1 || !a.has("--topic"))
     throw std::invalid_argument("usage: hcosim export FILE --topic TOPIC [--format jsonl|csv] [--wall]");
   const std::string topic = a.get("--topic", ""), format = a.get("--format", "jsonl");
-  if (format != "jsonl" && format != "csv") throw std::invalid_argument("--format must be jsonl or csv, not '" + format + "'");
+  if (format != "jsonl" && format != "csv")
+    throw std::invalid_argument("--format must be jsonl or csv, not '" + format + "'");
   bool known = false;
   runtime::with_topic(topic, [&](auto) { known = true; });
   if (!known) throw std::invalid_argument("unknown topic '" + topic + "'");
@@ -135,9 +137,11 @@ int replay(const std::vector<std::string>& argv) {
   runtime::RecordingReader in(a.positional[0]);
   std::vector<runtime::Record> records;
   for (runtime::Record r; in.next(r);)
-    if (topics.empty() || std::find(topics.begin(), topics.end(), r.topic) != topics.end()) records.push_back(std::move(r));
+    if (topics.empty() || std::find(topics.begin(), topics.end(), r.topic) != topics.end())
+      records.push_back(std::move(r));
   if (records.empty()) throw std::runtime_error(a.positional[0] + ": no sample of the chosen topics");
-  std::stable_sort(records.begin(), records.end(), [&](const runtime::Record& x, const runtime::Record& y) { return at(x) < at(y); });
+  std::stable_sort(records.begin(), records.end(),
+                   [&](const runtime::Record& x, const runtime::Record& y) { return at(x) < at(y); });
 
   runtime::install_stop_handlers();
   runtime::Participant p(domain_of(a), "hcosim_replay", runtime::default_qos_file(), nullptr, false, security_of(a));
@@ -166,7 +170,8 @@ int replay(const std::vector<std::string>& argv) {
       if (count() == 0) unread += (unread.empty() ? "" : ", ") + topic;
     if (!unread.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
   } while (!unread.empty() && runtime::mono_ns() < give_up && !runtime::stop_requested());
-  if (!unread.empty()) std::cerr << "hcosim replay: no reader of " << unread << " after " << wait_s << " s; replaying anyway\n";
+  if (!unread.empty())
+    std::cerr << "hcosim replay: no reader of " << unread << " after " << wait_s << " s; replaying anyway\n";
   std::cerr << "hcosim replay: " << records.size() << " samples over "
             << (at(records.back()) - at(records.front())) * 1e-9 / speed << " s" << std::endl;
   const std::int64_t start = runtime::mono_ns(), first = at(records.front());
@@ -174,7 +179,8 @@ int replay(const std::vector<std::string>& argv) {
   for (const runtime::Record& r : records) {
     if (runtime::stop_requested()) break;
     const std::int64_t due = start + std::int64_t(double(at(r) - first) / speed);
-    if (const std::int64_t wait = due - runtime::mono_ns(); wait > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(wait));
+    if (const std::int64_t wait = due - runtime::mono_ns(); wait > 0)
+      std::this_thread::sleep_for(std::chrono::nanoseconds(wait));
     write[r.topic](r);
     ++sent;
   }

@@ -40,10 +40,12 @@ int record_topics(const Args& a) {
 }  // namespace
 
 int record(const std::vector<std::string>& argv) {
-  const Args a = parse(argv, {"--out", "--device", "--duration", "--domain", "--security", "--identity", "--topics"}, {});
+  const Args a =
+      parse(argv, {"--out", "--device", "--duration", "--domain", "--security", "--identity", "--topics"}, {});
   if (!a.positional.empty()) return record_topics(a);
   const std::string out = a.get("--out", "");
-  if (out.empty()) throw std::invalid_argument("record needs FILE (a recording) or --out FILE.csv (a haptic trajectory)");
+  if (out.empty())
+    throw std::invalid_argument("record needs FILE (a recording) or --out FILE.csv (a haptic trajectory)");
   const std::string device = a.get("--device", "");
   const double duration = a.number("--duration", 0);
   if (duration < 0) throw std::invalid_argument("--duration must not be negative");

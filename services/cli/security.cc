@@ -92,7 +92,8 @@ std::string governance(bool all) {
       <enable_join_access_control>true</enable_join_access_control>
       <discovery_protection_kind>ENCRYPT</discovery_protection_kind>
       <liveliness_protection_kind>ENCRYPT</liveliness_protection_kind>
-      <rtps_protection_kind>)" + whole + R"(</rtps_protection_kind>
+      <rtps_protection_kind>)" +
+         whole + R"(</rtps_protection_kind>
       <topic_access_rules>
         <topic_rule>
           <topic_expression>*</topic_expression>
@@ -100,7 +101,8 @@ std::string governance(bool all) {
           <enable_liveliness_protection>true</enable_liveliness_protection>
           <enable_read_access_control>true</enable_read_access_control>
           <enable_write_access_control>true</enable_write_access_control>
-          <metadata_protection_kind>)" + whole + R"(</metadata_protection_kind>
+          <metadata_protection_kind>)" +
+         whole + R"(</metadata_protection_kind>
           <data_protection_kind>ENCRYPT</data_protection_kind>
         </topic_rule>
       </topic_access_rules>
@@ -112,12 +114,14 @@ std::string governance(bool all) {
 
 // One grant per identity: services and tools publish and subscribe to
 // every topic; a reader only subscribes. Anything else is denied.
-std::string permissions(const std::set<std::string>& full, const std::set<std::string>& readers, const std::string& domains,
-                        const std::string& from, const std::string& until) {
+std::string permissions(const std::set<std::string>& full, const std::set<std::string>& readers,
+                        const std::string& domains, const std::string& from, const std::string& until) {
   std::ostringstream x;
   x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<!-- Made by hcosim security init (docs/security.md). -->\n"
     << "<dds xmlns:xsi=\"http://www.w3.org/2001/XMLSchema-instance\"\n"
-    << "     xsi:noNamespaceSchemaLocation=\"http://www.omg.org/spec/DDS-SECURITY/20170901/omg_shared_ca_permissions.xsd\">\n"
+    << "     "
+       "xsi:noNamespaceSchemaLocation=\"http://www.omg.org/spec/DDS-SECURITY/20170901/"
+       "omg_shared_ca_permissions.xsd\">\n"
     << "  <permissions>\n";
   auto grant = [&](const std::string& name, bool publish) {
     x << "    <grant name=\"" << name << "\">\n"
@@ -179,7 +183,8 @@ int init(const Args& a) {
     if (!a.has("--force"))
       throw std::invalid_argument(dir + " already holds a CA (" + runtime::ca_file(dir) +
                                   "); --force replaces everything in it, --keep keeps it, or choose another folder");
-    for (const auto& f : {runtime::ca_file(dir), runtime::ca_key_file(dir), runtime::governance_file(dir), runtime::permissions_file(dir)})
+    for (const auto& f : {runtime::ca_file(dir), runtime::ca_key_file(dir), runtime::governance_file(dir),
+                          runtime::permissions_file(dir)})
       fs::remove(f);
     fs::remove_all(fs::path(dir) / "identities");
   }
@@ -192,8 +197,8 @@ int init(const Args& a) {
   std::cerr << "hcosim security: CA in " << dir << "\n";
   openssl({"genpkey", "-algorithm", "EC", "-pkeyopt", "ec_paramgen_curve:P-256", "-out", runtime::ca_key_file(dir)});
   fs::permissions(runtime::ca_key_file(dir), fs::perms::owner_read | fs::perms::owner_write, fs::perm_options::replace);
-  openssl({"req", "-x509", "-new", "-key", runtime::ca_key_file(dir), "-sha256", "-days", valid, "-subj", "/CN=hcosim test CA",
-           "-out", runtime::ca_file(dir)});
+  openssl({"req", "-x509", "-new", "-key", runtime::ca_key_file(dir), "-sha256", "-days", valid, "-subj",
+           "/CN=hcosim test CA", "-out", runtime::ca_file(dir)});
   std::set<std::string> everyone = full;
   everyone.insert(readers.begin(), readers.end());
   for (const auto& n : everyone) {
@@ -202,23 +207,27 @@ int init(const Args& a) {
     openssl({"genpkey", "-algorithm", "EC", "-pkeyopt", "ec_paramgen_curve:P-256", "-out", key});
     fs::permissions(key, fs::perms::owner_read | fs::perms::owner_write, fs::perm_options::replace);
     openssl({"req", "-new", "-key", key, "-subj", "/CN=" + n, "-out", csr});
-    openssl({"x509", "-req", "-in", csr, "-CA", runtime::ca_file(dir), "-CAkey", runtime::ca_key_file(dir), "-CAcreateserial",
-             "-sha256", "-days", valid, "-out", cert});
+    openssl({"x509", "-req", "-in", csr, "-CA", runtime::ca_file(dir), "-CAkey", runtime::ca_key_file(dir),
+             "-CAcreateserial", "-sha256", "-days", valid, "-out", cert});
     fs::remove(csr);
     std::cerr << "hcosim security: identity " << n << (readers.count(n) ? " (subscribe only)" : "") << "\n";
   }
   fs::remove(fs::path(dir) / "ca.srl");
 
   const std::time_t now = std::time(nullptr);
-  const std::string domains = d.file.empty() ? "<id_range><min>0</min><max>" + std::to_string(runtime::kMaxDomain) + "</max></id_range>"
-                                             : "<id>" + std::to_string(d.domain) + "</id>";
+  const std::string domains =
+      d.file.empty() ? "<id_range><min>0</min><max>" + std::to_string(runtime::kMaxDomain) + "</max></id_range>"
+                     : "<id>" + std::to_string(d.domain) + "</id>";
   const fs::path gov = fs::path(dir) / "governance.xml", perm = fs::path(dir) / "permissions.xml";
   write(gov, governance(protection == "all"));
   write(perm, permissions(full, readers, domains, utc(now - 3600), utc(now + std::time_t(days) * 86400)));
-  for (const auto& [xml, signed_] : {std::pair{gov.string(), runtime::governance_file(dir)}, {perm.string(), runtime::permissions_file(dir)}})
-    openssl({"smime", "-sign", "-text", "-in", xml, "-signer", runtime::ca_file(dir), "-inkey", runtime::ca_key_file(dir), "-out", signed_});
+  for (const auto& [xml, signed_] :
+       {std::pair{gov.string(), runtime::governance_file(dir)}, {perm.string(), runtime::permissions_file(dir)}})
+    openssl({"smime", "-sign", "-text", "-in", xml, "-signer", runtime::ca_file(dir), "-inkey",
+             runtime::ca_key_file(dir), "-out", signed_});
   std::cout << "hcosim security: " << everyone.size() << " identities in " << dir << " (CA " << runtime::ca_file(dir)
-            << ", valid " << valid << " days, " << protection << " encrypted" << (d.file.empty() ? "" : ", domain " + std::to_string(d.domain)) << ")\n";
+            << ", valid " << valid << " days, " << protection << " encrypted"
+            << (d.file.empty() ? "" : ", domain " + std::to_string(d.domain)) << ")\n";
   return 0;
 }
 
@@ -227,9 +236,10 @@ int init(const Args& a) {
 int security(const std::vector<std::string>& argv) {
   if (argv.empty() || argv[0] != "init")
     throw std::invalid_argument(
-        "usage: hcosim security init [DIR] [--deployment FILE] [--identities A,B] [--readers R] [--protection data|all] [--days N] [--force|--keep]");
-  const Args a =
-      parse({argv.begin() + 1, argv.end()}, {"--deployment", "--identities", "--readers", "--protection", "--days"}, {"--force", "--keep"});
+        "usage: hcosim security init [DIR] [--deployment FILE] [--identities A,B] [--readers R] [--protection "
+        "data|all] [--days N] [--force|--keep]");
+  const Args a = parse({argv.begin() + 1, argv.end()},
+                       {"--deployment", "--identities", "--readers", "--protection", "--days"}, {"--force", "--keep"});
   if (a.has("--force") && a.has("--keep")) throw std::invalid_argument("--force and --keep exclude each other");
   return init(a);
 }

@@ -29,7 +29,7 @@ class Discovery : public DomainParticipantListener {
   void on_publisher_discovery(DomainParticipant*, WriterDiscoveryInfo&& info) override {
     const int d = info.status == WriterDiscoveryInfo::DISCOVERED_WRITER ? 1
                   : info.status == WriterDiscoveryInfo::REMOVED_WRITER  ? -1
-                                                                         : 0;
+                                                                        : 0;
     std::lock_guard<std::mutex> lock(mutex_);
     Entry& e = topics_[info.info.topicName().to_string()];
     e.type = info.info.typeName().to_string();
@@ -38,7 +38,7 @@ class Discovery : public DomainParticipantListener {
   void on_subscriber_discovery(DomainParticipant*, ReaderDiscoveryInfo&& info) override {
     const int d = info.status == ReaderDiscoveryInfo::DISCOVERED_READER ? 1
                   : info.status == ReaderDiscoveryInfo::REMOVED_READER  ? -1
-                                                                         : 0;
+                                                                        : 0;
     std::lock_guard<std::mutex> lock(mutex_);
     Entry& e = topics_[info.info.topicName().to_string()];
     e.type = info.info.typeName().to_string();
@@ -63,7 +63,8 @@ int topics(const std::vector<std::string>& argv) {
   if (wait <= 0 || wait > 600) throw std::invalid_argument("--wait must be in (0, 600] s");
   Discovery discovery;
   {
-    runtime::Participant p(domain_of(a), "hcosim_topics", runtime::default_qos_file(), &discovery, false, security_of(a));
+    runtime::Participant p(domain_of(a), "hcosim_topics", runtime::default_qos_file(), &discovery, false,
+                           security_of(a));
     std::this_thread::sleep_for(std::chrono::duration<double>(wait));
     p.dds()->set_listener(nullptr);
   }

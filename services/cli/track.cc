@@ -10,18 +10,18 @@
 #include <map>
 #include <stdexcept>
 
+#include <yaml-cpp/yaml.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
-#include <yaml-cpp/yaml.h>
 
-#include "services/cli/cli.h"
 #include "adapters/config.h"
 #include "adapters/json.h"
-#include "services/runtime/service.h"
 #include "adapters/vision/calibration.h"
 #include "adapters/vision/source.h"
 #include "models/vision/tracker.h"
+#include "services/cli/cli.h"
+#include "services/runtime/service.h"
 
 namespace hcosim::services::cli {
 namespace {
@@ -61,7 +61,8 @@ std::map<std::pair<std::uint64_t, int>, Eigen::Isometry3d> read_poses(const std:
       const YAML::Node j = YAML::Load(line);
       const YAML::Node R = j["R"], t = j["t"];
       if (!j.IsMap() || !j["frame"] || !j["id"] || !R.IsSequence() || R.size() != 9 || !t.IsSequence() || t.size() != 3)
-        throw adapters::ConfigError(where + ": expected {\"frame\": i, \"id\": n, \"R\": [9 numbers], \"t\": [3 numbers], ...}");
+        throw adapters::ConfigError(
+            where + ": expected {\"frame\": i, \"id\": n, \"R\": [9 numbers], \"t\": [3 numbers], ...}");
       Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
       for (int k = 0; k < 9; ++k) p.linear()(k / 3, k % 3) = adapters::config_number(where, R[k], "R");
       for (int k = 0; k < 3; ++k) p.translation()(k) = adapters::config_number(where, t[k], "t");
@@ -88,12 +89,13 @@ const char* kTrackUsage =
 }  // namespace
 
 int track(const std::vector<std::string>& argv) {
-  const Args a = parse(argv, {"--source", "--camera", "--tag-size", "--out", "--family", "--decimate", "--sigma",
-                              "--threads", "--truth"},
-                       {});
+  const Args a = parse(
+      argv,
+      {"--source", "--camera", "--tag-size", "--out", "--family", "--decimate", "--sigma", "--threads", "--truth"}, {});
   for (const char* f : {"--source", "--camera", "--tag-size", "--out"})
     if (!a.has(f)) throw std::invalid_argument(std::string("track needs ") + f + "\n" + kTrackUsage);
-  if (!a.positional.empty()) throw std::invalid_argument("track takes no positional argument\n" + std::string(kTrackUsage));
+  if (!a.positional.empty())
+    throw std::invalid_argument("track takes no positional argument\n" + std::string(kTrackUsage));
   TrackerParams p;
   p.tag_size = a.number("--tag-size", 0);
   p.detector.family = a.get("--family", p.detector.family);
@@ -143,7 +145,7 @@ int track(const std::vector<std::string>& argv) {
       const auto t = truth.find({f.index, o.detection.id});
       if (t == truth.end()) continue;
       trans.add(100 * (o.pose.tag_in_camera.translation() - t->second.translation()).norm() /
-                      t->second.translation().norm());
+                t->second.translation().norm());
       rot.add(angle_between(o.pose.tag_in_camera.linear(), t->second.linear()) * 180 / M_PI);
     }
     if (runtime::mono_ns() - last_progress > 2'000'000'000) {
@@ -154,16 +156,18 @@ int track(const std::vector<std::string>& argv) {
   out.close();
   if (!out) throw std::runtime_error(out_path + ": write failed");
   if (misses > kNamedMisses) std::cerr << "track: ... and " << misses - kNamedMisses << " more frames without a tag\n";
-  std::printf("track: %llu frames, %llu with a tag, %llu detections written to %s; %llu unreadable, %llu of another "
-              "size, %llu tags no pose fits; detection and pose median %.2f ms a frame\n",
-              (unsigned long long)frames, (unsigned long long)with_tag, (unsigned long long)detections,
-              out_path.c_str(), (unsigned long long)unreadable, (unsigned long long)wrong_size,
-              (unsigned long long)(tracker ? tracker->unposed() : 0), ms.percentile(0.5));
+  std::printf(
+      "track: %llu frames, %llu with a tag, %llu detections written to %s; %llu unreadable, %llu of another "
+      "size, %llu tags no pose fits; detection and pose median %.2f ms a frame\n",
+      (unsigned long long)frames, (unsigned long long)with_tag, (unsigned long long)detections, out_path.c_str(),
+      (unsigned long long)unreadable, (unsigned long long)wrong_size,
+      (unsigned long long)(tracker ? tracker->unposed() : 0), ms.percentile(0.5));
   if (!truth.empty())
-    std::printf("track: against %s: %zu of %zu true poses detected; translation error p50 %.3f%% p95 %.3f%% of "
-                "distance, rotation error p50 %.3f deg p95 %.3f deg\n",
-                a.get("--truth", "").c_str(), trans.size(), truth.size(), trans.percentile(0.5),
-                trans.percentile(0.95), rot.percentile(0.5), rot.percentile(0.95));
+    std::printf(
+        "track: against %s: %zu of %zu true poses detected; translation error p50 %.3f%% p95 %.3f%% of "
+        "distance, rotation error p50 %.3f deg p95 %.3f deg\n",
+        a.get("--truth", "").c_str(), trans.size(), truth.size(), trans.percentile(0.5), trans.percentile(0.95),
+        rot.percentile(0.5), rot.percentile(0.95));
   if (detections == 0) {
     std::cerr << "track: no tag in any frame: is the family (" << p.detector.family
               << ") right, and the tag whole and in focus?" << std::endl;
@@ -173,9 +177,9 @@ int track(const std::vector<std::string>& argv) {
 }
 
 int synth(const std::vector<std::string>& argv) {
-  const Args a = parse(argv, {"--out", "--frames", "--rate", "--resolution", "--condition", "--family", "--tag-id",
-                              "--tag-size"},
-                       {"--video"});
+  const Args a =
+      parse(argv, {"--out", "--frames", "--rate", "--resolution", "--condition", "--family", "--tag-id", "--tag-size"},
+            {"--video"});
   if (!a.has("--out"))
     throw std::invalid_argument(
         "usage: hcosim synth --out DIR [--frames 60] [--rate 30] [--resolution 640x480] [--condition clean|noisy|"
@@ -188,7 +192,8 @@ int synth(const std::vector<std::string>& argv) {
   m.id = a.whole("--tag-id", m.id, 0, 1000000);
   m.tag_size = a.number("--tag-size", m.tag_size);
   const Intrinsics k = synthetic_intrinsics(w, h);
-  adapters::vision::SyntheticSource source(SyntheticCamera(k, m), condition(a.get("--condition", "clean")), rate, std::uint64_t(n));
+  adapters::vision::SyntheticSource source(SyntheticCamera(k, m), condition(a.get("--condition", "clean")), rate,
+                                           std::uint64_t(n));
   const fs::path dir = a.get("--out", "");
   fs::create_directories(dir / "frames");
   adapters::vision::write_intrinsics((dir / "camera.yaml").string(), k);
@@ -210,12 +215,14 @@ int synth(const std::vector<std::string>& argv) {
   }
   truth.close();
   if (!truth) throw std::runtime_error((dir / "truth.jsonl").string() + ": write failed");
-  std::printf("synth: wrote %s/frames/ (%d PNG frames)%s, camera.yaml and truth.jsonl (the true poses, in hcosim "
-              "track's format)\n",
-              dir.c_str(), int(n), video.isOpened() ? ", video.avi (MJPG)" : "");
-  std::printf("try: hcosim track --source %s/frames --camera %s/camera.yaml --tag-size %g --out poses.jsonl --truth "
-              "%s/truth.jsonl\n",
-              dir.c_str(), dir.c_str(), m.tag_size, dir.c_str());
+  std::printf(
+      "synth: wrote %s/frames/ (%d PNG frames)%s, camera.yaml and truth.jsonl (the true poses, in hcosim "
+      "track's format)\n",
+      dir.c_str(), int(n), video.isOpened() ? ", video.avi (MJPG)" : "");
+  std::printf(
+      "try: hcosim track --source %s/frames --camera %s/camera.yaml --tag-size %g --out poses.jsonl --truth "
+      "%s/truth.jsonl\n",
+      dir.c_str(), dir.c_str(), m.tag_size, dir.c_str());
   return 0;
 }
 
@@ -243,8 +250,9 @@ int video(const std::vector<std::string>& argv) {
     blank += sd[0] < kFlat;
   }
   std::printf("%s: %llu frames, %dx%d at %.3g fps, %llu blank, %llu not blank\n", path.c_str(),
-              (unsigned long long)frames, int(cap.get(cv::CAP_PROP_FRAME_WIDTH)), int(cap.get(cv::CAP_PROP_FRAME_HEIGHT)),
-              cap.get(cv::CAP_PROP_FPS), (unsigned long long)blank, (unsigned long long)(frames - blank));
+              (unsigned long long)frames, int(cap.get(cv::CAP_PROP_FRAME_WIDTH)),
+              int(cap.get(cv::CAP_PROP_FRAME_HEIGHT)), cap.get(cv::CAP_PROP_FPS), (unsigned long long)blank,
+              (unsigned long long)(frames - blank));
   return frames ? 0 : 1;
 }
 

@@ -1,12 +1,12 @@
 // hcosim up: start a deployment's services as processes, watch them, stop them.
 #include <fcntl.h>
-#include <csignal>
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <csignal>
 
 #include <algorithm>
 #include <chrono>
@@ -40,8 +40,8 @@ constexpr double kStopGraceS = 2.0;
 // above those Fast DDS gives the first participants of a host (0, 1, ...),
 // taken in turn and again from the start when used up.
 constexpr int kRestartIds = 60;
-constexpr double kJoinWaitS = 10.0;   // s before up names the services that have not joined
-constexpr double kStartWaitS = 120.0; // s the duration waits for every service's loop to run
+constexpr double kJoinWaitS = 10.0;    // s before up names the services that have not joined
+constexpr double kStartWaitS = 120.0;  // s the duration waits for every service's loop to run
 
 struct Child {
   std::string name;
@@ -76,14 +76,15 @@ std::string find_service(const std::string& kind, const std::string& file, int l
       if (n.rfind("hcosim_", 0) == 0 && n != "hcosim_clock") known += (known.empty() ? "" : ", ") + n.substr(7);
     }
   }
-  throw adapters::ConfigError(file + ":" + std::to_string(line) + ":1: no service of kind '" + kind + "' (known kinds: " +
-                        (known.empty() ? "none" : known) + ")");
+  throw adapters::ConfigError(file + ":" + std::to_string(line) + ":1: no service of kind '" + kind +
+                              "' (known kinds: " + (known.empty() ? "none" : known) + ")");
 }
 
 std::string describe(int status) {
   if (WIFEXITED(status)) return "exit status " + std::to_string(WEXITSTATUS(status));
-  if (WIFSIGNALED(status)) return std::string("killed by signal ") + std::to_string(WTERMSIG(status)) + " (" +
-                                  strsignal(WTERMSIG(status)) + ")";
+  if (WIFSIGNALED(status))
+    return std::string("killed by signal ") + std::to_string(WTERMSIG(status)) + " (" + strsignal(WTERMSIG(status)) +
+           ")";
   return "status " + std::to_string(status);
 }
 
@@ -214,9 +215,10 @@ class Progress {
     printed_ns_ = now;
     std::string line = text("sim %.1f s, real-time factor %.2f", sim_ns_ * 1e-9, factor_);
     for (const auto& [name, s] : latest_)
-      line += text(" | %s %.0f Hz, %llu overruns%s", name.c_str(), s.rate_achieved_hz(),
-                   static_cast<unsigned long long>(s.overruns()),
-                   s.outputs_shed() ? text(", %llu shed", static_cast<unsigned long long>(s.outputs_shed())).c_str() : "");
+      line +=
+          text(" | %s %.0f Hz, %llu overruns%s", name.c_str(), s.rate_achieved_hz(),
+               static_cast<unsigned long long>(s.overruns()),
+               s.outputs_shed() ? text(", %llu shed", static_cast<unsigned long long>(s.outputs_shed())).c_str() : "");
     std::printf(tty_ ? "\r%s\033[K" : "%s\n", line.c_str());
     std::fflush(stdout);
     shown_ = true;
@@ -241,7 +243,7 @@ class Progress {
   std::map<std::string, ServiceStatus> latest_;
   std::set<std::string> ran_;
   std::int64_t sim_ns_ = 0, printed_ns_ = 0;  // the furthest service's simulated time
-  double factor_ = 0;                          // simulated over wall time between its last two reports
+  double factor_ = 0;                         // simulated over wall time between its last two reports
   bool tty_, shown_ = false;
 };
 
@@ -311,9 +313,13 @@ int up(const std::vector<std::string>& argv) {
     s.precision(17);
     r << rate;
     s << d.step_s;
-    return std::vector<std::string>{"--name", name, "--domain", std::to_string(d.domain), "--mode",
-                                    runtime::to_string(d.mode), "--rate", r.str(), "--step", s.str(),
-                                    "--deployment", file, "--out", fs::absolute(out).string()};
+    return std::vector<std::string>{"--name",       name,
+                                    "--domain",     std::to_string(d.domain),
+                                    "--mode",       runtime::to_string(d.mode),
+                                    "--rate",       r.str(),
+                                    "--step",       s.str(),
+                                    "--deployment", file,
+                                    "--out",        fs::absolute(out).string()};
   };
   const auto scheduling = [](const runtime::ServiceSpec& s) {
     return std::vector<std::string>{"--priority", std::to_string(s.priority), "--cpu", std::to_string(s.cpu)};
@@ -333,8 +339,8 @@ int up(const std::vector<std::string>& argv) {
   // The clock alone would step nothing: surely a mistake in the file.
   if (children.empty())
     throw adapters::ConfigError(d.services_where + ": nothing to run: " +
-                          (d.services.empty() ? std::string("the deployment lists no services")
-                                              : "the scene needs none of its services (above)"));
+                                (d.services.empty() ? std::string("the deployment lists no services")
+                                                    : "the scene needs none of its services (above)"));
   if (d.mode == runtime::Mode::kLockstep) {
     Child clock{"clock", find_service("clock", d.file, 1), common("clock", 1.0 / d.step_s)};
     std::ostringstream dur;
@@ -358,16 +364,16 @@ int up(const std::vector<std::string>& argv) {
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
 
-  std::printf("hcosim up: %s, domain %d, %s, %zu service(s)%s%s\n", d.file.c_str(), d.domain, runtime::to_string(d.mode),
-              children.size(), d.duration_s > 0 ? "" : ", until Ctrl-C",
+  std::printf("hcosim up: %s, domain %d, %s, %zu service(s)%s%s\n", d.file.c_str(), d.domain,
+              runtime::to_string(d.mode), children.size(), d.duration_s > 0 ? "" : ", until Ctrl-C",
               security.on() ? (", DDS Security on (" + d.security + ")").c_str() : "");
   // up's participant exists before the services, so that the recorder's
   // readers are there when their writers appear.
   Joined joined;
   // Owned, so that it is gone before the shared-memory clean at the end:
   // a dead process's ports that it holds open would stay behind.
-  auto participant =
-      std::make_unique<runtime::Participant>(d.domain, "hcosim_up", runtime::default_qos_file(), &joined, false, security);
+  auto participant = std::make_unique<runtime::Participant>(d.domain, "hcosim_up", runtime::default_qos_file(), &joined,
+                                                            false, security);
   // In lockstep the recorder's readers are reliable: the services wait for
   // them too, so a recording holds every sample.
   participant->set_lockstep(d.mode == runtime::Mode::kLockstep);
@@ -391,11 +397,11 @@ int up(const std::vector<std::string>& argv) {
   std::int64_t end = INT64_MAX;
   std::string reason;
   int code = 0;
-  bool crashed = false;  // some process died by a signal: its shared memory stays behind
+  bool crashed = false;    // some process died by a signal: its shared memory stays behind
   std::string last_words;  // failed services' last log lines, not yet printed
   const Child shm_clean{"shm_clean", "/bin/sh", {"-c", "fastdds shm clean"}};
-  pid_t cleaner = -1;    // a running shm_clean, or -1
-  int next_id = 0;       // restarts so far, for participant ids
+  pid_t cleaner = -1;  // a running shm_clean, or -1
+  int next_id = 0;     // restarts so far, for participant ids
   // Say when every service's participant has been discovered, or after
   // kJoinWaitS which have not; then when every service runs, or which
   // still start.
@@ -442,8 +448,10 @@ int up(const std::vector<std::string>& argv) {
       }
     }
     if (cleaner > 0 && waitpid(cleaner, nullptr, WNOHANG) == cleaner) cleaner = -1;
-    if (g_signal) reason = std::string("stopped by ") + (g_signal == SIGINT ? "SIGINT" : "SIGTERM");
-    else if (runtime::mono_ns() >= end) reason = "duration reached";
+    if (g_signal)
+      reason = std::string("stopped by ") + (g_signal == SIGINT ? "SIGINT" : "SIGTERM");
+    else if (runtime::mono_ns() >= end)
+      reason = "duration reached";
     else
       for (Child* c : reap(children)) {
         if (!reason.empty()) break;
@@ -457,7 +465,8 @@ int up(const std::vector<std::string>& argv) {
         if (failed(*c) && !killed)
           if (const std::string l = last_line(logs / (c->name + ".log")); !l.empty())
             last_words += "  " + c->name + ": " + l + "\n";
-        if (failed(*c) && c->policy == runtime::OnFailure::kRestart && c->restarts < runtime::kMaxRestarts && !refused) {
+        if (failed(*c) && c->policy == runtime::OnFailure::kRestart && c->restarts < runtime::kMaxRestarts &&
+            !refused) {
           ++c->restarts;
           crashed = crashed || WIFSIGNALED(c->status);
           progress->finish();
@@ -483,8 +492,8 @@ int up(const std::vector<std::string>& argv) {
           if (WIFSIGNALED(c->status) && cleaner < 0) cleaner = spawn(shm_clean, logs / "shm_clean.log", true);
         } else if (failed(*c) && c->policy == runtime::OnFailure::kIgnore) {
           progress->finish();
-          std::printf("hcosim up: service '%s' ended (%s); on_failure: ignore, the others run on\n%s",
-                      c->name.c_str(), describe(c->status).c_str(), last_words.c_str());
+          std::printf("hcosim up: service '%s' ended (%s); on_failure: ignore, the others run on\n%s", c->name.c_str(),
+                      describe(c->status).c_str(), last_words.c_str());
           last_words.clear();
           std::fflush(stdout);
           code = 1;
@@ -532,7 +541,8 @@ int up(const std::vector<std::string>& argv) {
   participant.reset();
   if (crashed) clean_shared_memory(d.domain);
 
-  std::printf("hcosim up: %s after %.1f s\n%s", reason.c_str(), (runtime::mono_ns() - start) * 1e-9, last_words.c_str());
+  std::printf("hcosim up: %s after %.1f s\n%s", reason.c_str(), (runtime::mono_ns() - start) * 1e-9,
+              last_words.c_str());
   for (const auto& c : children)
     std::printf("  %-16s %-32s log %s\n", c.name.c_str(),
                 (describe(c.status) + (c.restarts ? ", " + std::to_string(c.restarts) + " restarts" : "")).c_str(),

@@ -58,8 +58,10 @@ int run_clock(Options options) {
     status.take([&](const ServiceStatus& s) {
       const std::string name = s.service().to_string();
       if (followers.count(name)) endpoint_of[name] = status.current_writer();
-      if (s.state().to_string() == "starting") starting.insert(name);
-      else starting.erase(name);
+      if (s.state().to_string() == "starting")
+        starting.insert(name);
+      else
+        starting.erase(name);
     });
     const double waited = (mono_ns() - t0) * 1e-9;
     const double limit = starting.empty() ? kJoinTimeoutS : kStartTimeoutS;
@@ -74,8 +76,8 @@ int run_clock(Options options) {
   }
 
   const std::int64_t step_ns = std::llround(options.step_s * 1e9);
-  const std::uint64_t last = options.duration_s > 0 ? std::uint64_t(std::llround(options.duration_s / options.step_s)) - 1
-                                                    : UINT64_MAX;
+  const std::uint64_t last =
+      options.duration_s > 0 ? std::uint64_t(std::llround(options.duration_s / options.step_s)) - 1 : UINT64_MAX;
   const std::int64_t wall_start = mono_ns();
   std::uint64_t k = 0;
   for (;; ++k) {

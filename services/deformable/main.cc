@@ -16,11 +16,11 @@
 #include <thread>
 #include <vector>
 
-#include "models/deformable/elastic_surface.h"
-#include "models/deformable/hybrid.h"
 #include "adapters/deformable/map_cache.h"
 #include "adapters/deformable/mesh_idl.h"
 #include "adapters/device/haptic_idl.h"
+#include "models/deformable/elastic_surface.h"
+#include "models/deformable/hybrid.h"
 #include "services/runtime/haptic_answer.h"
 #include "services/runtime/service.h"
 
@@ -32,12 +32,12 @@ namespace {
 struct Item {
   std::string name;
   std::unique_ptr<models::deformable::Object> model;
-  double behavior_time = 0;  // s, simulated time the behavior model reached
-  std::uint64_t contacts = 0;  // ticks in contact
-  double max_force = 0;        // N
-  std::uint64_t frames = 0;    // meshes published
-  adapters::device::Feel said;           // the last answer written (haptic thread)
-  std::uint64_t said_seq = 0;  // the state it answered
+  double behavior_time = 0;     // s, simulated time the behavior model reached
+  std::uint64_t contacts = 0;   // ticks in contact
+  double max_force = 0;         // N
+  std::uint64_t frames = 0;     // meshes published
+  adapters::device::Feel said;  // the last answer written (haptic thread)
+  std::uint64_t said_seq = 0;   // the state it answered
 };
 
 // Kept from an object's reach by a free-space answer: the reach is exact
@@ -52,7 +52,7 @@ double free_clearance(const models::deformable::Object& o, const Eigen::Vector3d
 
 // `cache`: the folder that keeps hybrid objects' visual maps between runs.
 std::unique_ptr<models::deformable::Object> make_object(const Params& o, const std::string& name, double servo_dt,
-                                                const std::string& cache) {
+                                                        const std::string& cache) {
   const std::string model = o.text("model", "hybrid", {"hybrid", "sheet", "semisphere"});
   const auto c = o.vec3("centre", {0, 0, model == "hybrid" ? 0.05 : 0});
   if (model == "hybrid") {
@@ -69,8 +69,8 @@ std::unique_ptr<models::deformable::Object> make_object(const Params& o, const s
     s.visual_subdivisions = o.whole("visual_subdivisions", s.visual_subdivisions, 1, 300);
     s.visual_exponent = o.number("rounding", s.visual_exponent, 2, 64);
     std::printf("%s: hybrid, %d^3 chains and masses, %d visual vertices by %s; building the map (kept in %s)\n",
-                name.c_str(), s.elements, 6 * s.visual_subdivisions * s.visual_subdivisions + 2, models::deformable::name(s.map),
-                cache.c_str());
+                name.c_str(), s.elements, 6 * s.visual_subdivisions * s.visual_subdivisions + 2,
+                models::deformable::name(s.map), cache.c_str());
     std::fflush(stdout);
     return std::make_unique<models::deformable::Hybrid>(s, adapters::deformable::map_cache(cache, s));
   }
@@ -90,9 +90,11 @@ std::unique_ptr<models::deformable::Object> make_object(const Params& o, const s
 // What the device feels from one object's touch, with the local model it
 // renders until the next answer: stiffness along the face's normal (in a
 // grab the object pulls, so no one-sided test).
-adapters::device::Feel feel(const models::deformable::Touch& t, const Eigen::Vector3d& hip, bool grab, double clearance) {
+adapters::device::Feel feel(const models::deformable::Touch& t, const Eigen::Vector3d& hip, bool grab,
+                            double clearance) {
   if (!t.in_contact) return adapters::device::free_feel(hip, clearance);
-  adapters::device::Feel f = adapters::device::contact_feel(t.force, hip, t.normal, t.stiffness, t.depth, adapters::device::kContactModelRadius);
+  adapters::device::Feel f = adapters::device::contact_feel(t.force, hip, t.normal, t.stiffness, t.depth,
+                                                            adapters::device::kContactModelRadius);
   if (grab) f.normal.setZero();
   return f;
 }
@@ -141,7 +143,8 @@ class VisualWorker {
         const std::int64_t t0 = mono_ns();
         for (std::size_t k = 0; k < items_.size(); ++k) {
           Item& it = items_[k];
-          adapters::deformable::fill_mesh(sample_, it.name, stamp_, it.model->surface_from(cages_[k]), it.model->triangles());
+          adapters::deformable::fill_mesh(sample_, it.name, stamp_, it.model->surface_from(cages_[k]),
+                                          it.model->triangles());
           out_.write(sample_);
           ++it.frames;
         }
@@ -189,7 +192,8 @@ int run(int argc, char** argv) {
   Writer<DeformedMesh> meshes(svc.participant());
   Writer<MeshTopology> topology(svc.participant());
   for (Item& it : items) {
-    MeshTopology t = adapters::deformable::mesh_topology(it.name, int(it.model->surface().cols()), it.model->triangles());
+    MeshTopology t =
+        adapters::deformable::mesh_topology(it.name, int(it.model->surface().cols()), it.model->triangles());
     topology.write(t);
   }
   // What touch() changes is shared by the haptic thread and the loop's
@@ -228,7 +232,8 @@ int run(int argc, char** argv) {
     // Pass 0 answers the objects the device waits for, pass 1 touches the rest.
     for (int pass = 0; pass < 2; ++pass)
       for (std::size_t k = 0; k < items.size(); ++k) {
-        const bool covered = realtime && adapters::device::answer_covered(items[k].said, items[k].said_seq, hip, s.seq(), servo_dt);
+        const bool covered =
+            realtime && adapters::device::answer_covered(items[k].said, items[k].said_seq, hip, s.seq(), servo_dt);
         if (covered == (pass == 1)) one(k, !covered);
       }
     answer_us.add((mono_ns() - t0) * 1e-3);
@@ -252,8 +257,10 @@ int run(int argc, char** argv) {
       const auto keep = [&](const HapticState& s) {
         if (s.device().to_string() == device) latest = s, have = true;
       };
-      if (group) take_state_of_step(svc, in, force, tick, device, keep);
-      else svc.take(in, tick, keep);
+      if (group)
+        take_state_of_step(svc, in, force, tick, device, keep);
+      else
+        svc.take(in, tick, keep);
       if (have) answer(latest, svc.stamp(tick));
     }
     const std::int64_t t1 = mono_ns();
@@ -292,16 +299,18 @@ int run(int argc, char** argv) {
                 static_cast<unsigned long long>(it.contacts), it.max_force, static_cast<unsigned long long>(it.frames));
   std::printf("%s: %llu object-states left to a free-space answer\n", svc.options().name.c_str(),
               static_cast<unsigned long long>(unanswered));
-  std::printf("%s: haptic answer (all objects) p50 %.1f us p99 %.1f us over %zu states; "
-              "behavior p50 %.1f us p99 %.1f us; "
-              "visual frame (all objects) p50 %.2f ms p99 %.2f ms, %llu shed (worker busy)\n",
-              svc.options().name.c_str(), answer_us.percentile(0.5), answer_us.percentile(0.99), answer_us.size(),
-              behavior_us.percentile(0.5), behavior_us.percentile(0.99),
-              visual.frame_ms().percentile(0.5), visual.frame_ms().percentile(0.99),
-              static_cast<unsigned long long>(frames_dropped));
+  std::printf(
+      "%s: haptic answer (all objects) p50 %.1f us p99 %.1f us over %zu states; "
+      "behavior p50 %.1f us p99 %.1f us; "
+      "visual frame (all objects) p50 %.2f ms p99 %.2f ms, %llu shed (worker busy)\n",
+      svc.options().name.c_str(), answer_us.percentile(0.5), answer_us.percentile(0.99), answer_us.size(),
+      behavior_us.percentile(0.5), behavior_us.percentile(0.99), visual.frame_ms().percentile(0.5),
+      visual.frame_ms().percentile(0.99), static_cast<unsigned long long>(frames_dropped));
   return status;
 }
 
 }  // namespace
 
-int main(int argc, char** argv) { return guarded_main("hcosim_deformable", [&] { return run(argc, argv); }); }
+int main(int argc, char** argv) {
+  return guarded_main("hcosim_deformable", [&] { return run(argc, argv); });
+}

@@ -88,13 +88,14 @@ class Rendered {
 int run(int argc, char** argv) {
   Service svc(parse_options(argc, argv));
   const Params& p = svc.params();
-  p.allow_only({"device", "replay", "script", "passivity", "source_timeout", "max_damping", "reservoir", "hand_stiffness", "hand_damping",
-                "centre", "answer_wait", "report"});
+  p.allow_only({"device", "replay", "script", "passivity", "source_timeout", "max_damping", "reservoir",
+                "hand_stiffness", "hand_damping", "centre", "answer_wait", "report"});
   const bool replay = p.text("device", "simulated", {"simulated", "replay"}) == "replay";
   const std::string source = p.path(replay ? "replay" : "script");
   if (source.empty())
-    throw adapters::ConfigError(std::string("hcosim_haptic: params.") + (replay ? "replay (a recorded trajectory, CSV)" : "script (a virtual-user script)") +
-                      " is required; docs/haptic.md");
+    throw adapters::ConfigError(std::string("hcosim_haptic: params.") +
+                                (replay ? "replay (a recorded trajectory, CSV)" : "script (a virtual-user script)") +
+                                " is required; docs/haptic.md");
   models::haptic::OmniSpec spec;
   const auto c = p.vec3("centre", {0, 0, 0});
   spec.centre = {c[0], c[1], c[2]};
@@ -104,11 +105,14 @@ int run(int argc, char** argv) {
   hand.damping = p.number("hand_damping", hand.damping, 0, 1e3);
   const bool passivity = p.on("passivity", true);
   const double dt = 1 / spec.servo_hz;
-  models::haptic::PassivityController pc(dt, p.number("max_damping", 20, 1e-3, 1e3), p.number("reservoir", 1e-4, 1e-9, 10));
+  models::haptic::PassivityController pc(dt, p.number("max_damping", 20, 1e-3, 1e3),
+                                         p.number("reservoir", 1e-4, 1e-9, 10));
   models::haptic::ForceSum sum(p.number("source_timeout", 0.05, 1e-3, 10));
   std::unique_ptr<adapters::device::Device> dev;
-  if (replay) dev = std::make_unique<adapters::device::Replay>(spec, adapters::device::load_trajectory(source));
-  else dev = std::make_unique<adapters::device::SimulatedOmni>(spec, hand, adapters::device::load_script(source));
+  if (replay)
+    dev = std::make_unique<adapters::device::Replay>(spec, adapters::device::load_trajectory(source));
+  else
+    dev = std::make_unique<adapters::device::SimulatedOmni>(spec, hand, adapters::device::load_script(source));
   adapters::device::Device& omni = *dev;
   // Real time: how long a tick waits for its answers before it renders;
   // the rest of the tick renders and outputs.
@@ -141,7 +145,7 @@ int run(int argc, char** argv) {
   // Sources that answered this tick's state, and those it waits for
   // (reused: no allocation per tick; names fit in a short string).
   std::vector<std::string> answered, expected;
-  std::vector<ForceFeedback> deferred;          // lockstep: this step's answers from outside the group
+  std::vector<ForceFeedback> deferred;  // lockstep: this step's answers from outside the group
   const auto has = [](const std::vector<std::string>& v, const std::string& x) {
     return std::find(v.begin(), v.end(), x) != v.end();
   };
@@ -188,14 +192,16 @@ int run(int argc, char** argv) {
       for (;;) {
         in.take_before(tick.step + 1, [&](const ForceFeedback& s) {
           if (!mine(s)) return;
-          if (s.stamp().step() == tick.step && !has(group, s.source().to_string())) deferred.push_back(s);
-          else handle(s, now);
+          if (s.stamp().step() == tick.step && !has(group, s.source().to_string()))
+            deferred.push_back(s);
+          else
+            handle(s, now);
         });
         if (all_in(group) || stop_requested()) break;
         if (mono_ns() > deadline)
           throw std::runtime_error(name + ": step " + std::to_string(tick.step) +
-                                   ": the sources of its group did not answer in " +
-                                   std::to_string(int(kGroupWaitS)) + " s");
+                                   ": the sources of its group did not answer in " + std::to_string(int(kGroupWaitS)) +
+                                   " s");
         in.wait(std::chrono::milliseconds(100));
       }
     } else {
@@ -211,8 +217,10 @@ int run(int argc, char** argv) {
       sum.expire(now);
       for (const auto& [from, last] : newest) {
         if (!sum.has(from)) continue;
-        if (double(seq - last) * dt <= models::haptic::kFreeHorizonS && sum.covers(from, f.position)) ++covered;
-        else expected.push_back(from);
+        if (double(seq - last) * dt <= models::haptic::kFreeHorizonS && sum.covers(from, f.position))
+          ++covered;
+        else
+          expected.push_back(from);
       }
       // In lockstep outside a group, this tick's answers belong to the next
       // tick: no wait.
@@ -254,20 +262,23 @@ int run(int argc, char** argv) {
     r << j.str() << "\n";
     if (!r) throw std::runtime_error("cannot write " + report);
   }
-  std::printf("%s: %llu ticks, %zu answered, round trip p50 %.0f us p99 %.0f us, %.4f on time, %llu saturated, "
-              "%llu sources timed out, %.3g J dissipated by the passivity controller\n",
-              name.c_str(), static_cast<unsigned long long>(omni.frames()), w.size(), w.percentile(0.5),
-              w.percentile(0.99), in_tick_ratio, static_cast<unsigned long long>(omni.saturated()),
-              static_cast<unsigned long long>(sum.expired()), pc.dissipated());
-  std::printf("%s: wake-up jitter p50 %.0f us p99 %.0f us; %llu source-ticks rendered from a local model, "
-              "%llu from a free-space one (nothing near); %zu late answers, rendered-force error p99 %.4f N of a "
-              "%.3f N peak\n",
-              name.c_str(), jitter_us.percentile(0.5), jitter_us.percentile(0.99),
-              static_cast<unsigned long long>(modelled), static_cast<unsigned long long>(covered), error_n.size(),
-              error_n.percentile(0.99), peak);
+  std::printf(
+      "%s: %llu ticks, %zu answered, round trip p50 %.0f us p99 %.0f us, %.4f on time, %llu saturated, "
+      "%llu sources timed out, %.3g J dissipated by the passivity controller\n",
+      name.c_str(), static_cast<unsigned long long>(omni.frames()), w.size(), w.percentile(0.5), w.percentile(0.99),
+      in_tick_ratio, static_cast<unsigned long long>(omni.saturated()), static_cast<unsigned long long>(sum.expired()),
+      pc.dissipated());
+  std::printf(
+      "%s: wake-up jitter p50 %.0f us p99 %.0f us; %llu source-ticks rendered from a local model, "
+      "%llu from a free-space one (nothing near); %zu late answers, rendered-force error p99 %.4f N of a "
+      "%.3f N peak\n",
+      name.c_str(), jitter_us.percentile(0.5), jitter_us.percentile(0.99), static_cast<unsigned long long>(modelled),
+      static_cast<unsigned long long>(covered), error_n.size(), error_n.percentile(0.99), peak);
   return status;
 }
 
 }  // namespace
 
-int main(int argc, char** argv) { return guarded_main("hcosim_haptic", [&] { return run(argc, argv); }); }
+int main(int argc, char** argv) {
+  return guarded_main("hcosim_haptic", [&] { return run(argc, argv); });
+}

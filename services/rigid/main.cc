@@ -15,10 +15,10 @@
 #include <vector>
 
 #include "adapters/device/haptic_idl.h"
+#include "adapters/rigid/rigid_idl.h"
 #include "models/haptic/local_model.h"
 #include "models/rigid/mujoco_world.h"
 #include "models/rigid/proxy.h"
-#include "adapters/rigid/rigid_idl.h"
 #include "models/rigid/world.h"
 #include "services/runtime/haptic_answer.h"
 #include "services/runtime/service.h"
@@ -42,8 +42,8 @@ constexpr double kSleepingRepeat = 0.2;  // s
 
 struct Item {
   std::string name;
-  double max_speed = 0;          // m/s
-  double next_publish = 0;       // s, when a sleeping body is published again
+  double max_speed = 0;     // m/s
+  double next_publish = 0;  // s, when a sleeping body is published again
   bool was_sleeping = false;
 };
 
@@ -140,8 +140,8 @@ int run(int argc, char** argv) {
   Writer<RigidDivergence> divergences(svc.participant());
   std::vector<models::rigid::Proxy> proxies(items.size());
   std::vector<adapters::device::Feel> feels(items.size());
-  std::vector<adapters::device::Feel> said(items.size());     // the last answer written per body
-  std::vector<std::uint64_t> said_seq(items.size());  // the state it answered
+  std::vector<adapters::device::Feel> said(items.size());  // the last answer written per body
+  std::vector<std::uint64_t> said_seq(items.size());       // the state it answered
   const bool realtime = svc.options().mode == Mode::kRealtime;
   std::uint64_t unanswered = 0;  // body-states left to a free-space answer
   Window answer_us(1 << 16);
@@ -178,7 +178,8 @@ int run(int argc, char** argv) {
         const Eigen::Vector3d n = depth > 0 ? Eigen::Vector3d(d / depth) : Eigen::Vector3d::Zero();
         const Eigen::Vector3d fk = models::rigid::proxy_force(proxy, h, stiffness, max_force);
         const bool clamped = stiffness * depth > max_force;
-        f = adapters::device::contact_feel(fk, h, n, clamped ? 0.0 : stiffness, depth, adapters::device::kContactModelRadius);
+        f = adapters::device::contact_feel(fk, h, n, clamped ? 0.0 : stiffness, depth,
+                                           adapters::device::kContactModelRadius);
       }
       tip.v = adapters::device::from_idl(s.velocity());
       set_tip(tip);
@@ -213,16 +214,18 @@ int run(int argc, char** argv) {
   double state_time = 0;  // s, lockstep: the simulated time `latest` arrived
   Window step_us(1 << 16);
   std::vector<models::rigid::Body> now_bodies;  // the bodies after this tick's step (reused: no allocation per tick)
-  std::uint64_t hits = 0;                // tip impulses of the analytic model
-  double worst[4] = {0, 0, 0, 0};        // max divergences
+  std::uint64_t hits = 0;                       // tip impulses of the analytic model
+  double worst[4] = {0, 0, 0, 0};               // max divergences
   const int status = svc.run([&](const Tick& tick) {
     const double now = tick.sim_time_ns * 1e-9;
     if (svc.options().mode == Mode::kLockstep) {
       const auto keep = [&](const HapticState& s) {
         if (s.device().to_string() == device) latest = s, have = true, state_time = now;
       };
-      if (group) take_state_of_step(svc, in, force, tick, device, keep);
-      else svc.take(in, tick, keep);
+      if (group)
+        take_state_of_step(svc, in, force, tick, device, keep);
+      else
+        svc.take(in, tick, keep);
       if (have) {
         if (now - state_time > kStaleState) latest.velocity(Vec3{});
         answer(latest, svc.stamp(tick));
@@ -281,23 +284,28 @@ int run(int argc, char** argv) {
   if (haptic) haptic->stop();
   for (std::size_t i = 0; i < items.size(); ++i) {
     const models::rigid::Body b = body(i);
-    std::printf("%s: %s at [%.4f, %.4f, %.4f] m, max speed %.3f m/s, %s\n", items[i].name.c_str(), models::rigid::name(b.shape),
-                b.x.x(), b.x.y(), b.x.z(), items[i].max_speed, b.sleeping ? "asleep" : "awake");
+    std::printf("%s: %s at [%.4f, %.4f, %.4f] m, max speed %.3f m/s, %s\n", items[i].name.c_str(),
+                models::rigid::name(b.shape), b.x.x(), b.x.y(), b.x.z(), items[i].max_speed,
+                b.sleeping ? "asleep" : "awake");
   }
   std::printf("%s: %llu body-states left to a free-space answer\n", svc.options().name.c_str(),
               static_cast<unsigned long long>(unanswered));
-  std::printf("%s: %s backend, bodies step p50 %.1f us p99 %.1f us over %zu ticks; haptic answer (all bodies) "
-              "p50 %.1f us p99 %.1f us over %zu states; %llu tip hits, %llu states in contact, max force %.3f N\n",
-              svc.options().name.c_str(), backend.c_str(), step_us.percentile(0.5), step_us.percentile(0.99),
-              step_us.size(), answer_us.percentile(0.5), answer_us.percentile(0.99), answer_us.size(),
-              static_cast<unsigned long long>(hits), static_cast<unsigned long long>(contact_ticks), felt);
+  std::printf(
+      "%s: %s backend, bodies step p50 %.1f us p99 %.1f us over %zu ticks; haptic answer (all bodies) "
+      "p50 %.1f us p99 %.1f us over %zu states; %llu tip hits, %llu states in contact, max force %.3f N\n",
+      svc.options().name.c_str(), backend.c_str(), step_us.percentile(0.5), step_us.percentile(0.99), step_us.size(),
+      answer_us.percentile(0.5), answer_us.percentile(0.99), answer_us.size(), static_cast<unsigned long long>(hits),
+      static_cast<unsigned long long>(contact_ticks), felt);
   if (analytic && mujoco)
-    std::printf("%s: max divergence from MuJoCo: position %.3g m, orientation %.3g rad, velocity %.3g m/s, "
-                "angular velocity %.3g rad/s\n",
-                svc.options().name.c_str(), worst[0], worst[1], worst[2], worst[3]);
+    std::printf(
+        "%s: max divergence from MuJoCo: position %.3g m, orientation %.3g rad, velocity %.3g m/s, "
+        "angular velocity %.3g rad/s\n",
+        svc.options().name.c_str(), worst[0], worst[1], worst[2], worst[3]);
   return status;
 }
 
 }  // namespace
 
-int main(int argc, char** argv) { return guarded_main("hcosim_rigid", [&] { return run(argc, argv); }); }
+int main(int argc, char** argv) {
+  return guarded_main("hcosim_rigid", [&] { return run(argc, argv); });
+}

@@ -36,15 +36,18 @@ ServiceSpec parse_service(const std::string& file, const YAML::Node& node) {
   if (!std::regex_match(s.kind, std::regex("[a-z][a-z0-9_]*")))
     throw config_error(file, node["kind"], "service kind '" + s.kind + "' must be a-z, 0-9 and _");
   s.rate_hz = config_number(file, node["rate"], "rate");
-  if (s.rate_hz <= 0 || s.rate_hz > 1e5)
-    throw config_error(file, node["rate"], "'rate' must be in (0, 100000] Hz");
+  if (s.rate_hz <= 0 || s.rate_hz > 1e5) throw config_error(file, node["rate"], "'rate' must be in (0, 100000] Hz");
   if (const YAML::Node n = node["on_failure"]) {
     s.where = file + ":" + std::to_string(n.Mark().line + 1) + ":" + std::to_string(n.Mark().column + 1);
     const std::string v = config_text(file, n, "on_failure");
-    if (v == "stop_all") s.on_failure = OnFailure::kStopAll;
-    else if (v == "restart") s.on_failure = OnFailure::kRestart;
-    else if (v == "ignore") s.on_failure = OnFailure::kIgnore;
-    else throw config_error(file, n, "'on_failure' must be stop_all, restart or ignore, not '" + v + "'");
+    if (v == "stop_all")
+      s.on_failure = OnFailure::kStopAll;
+    else if (v == "restart")
+      s.on_failure = OnFailure::kRestart;
+    else if (v == "ignore")
+      s.on_failure = OnFailure::kIgnore;
+    else
+      throw config_error(file, n, "'on_failure' must be stop_all, restart or ignore, not '" + v + "'");
   }
   // The kinds whose threads answer the hand come first by default.
   if (s.kind == "haptic" || s.kind == "rigid" || s.kind == "deformable") s.priority = kHapticPriority;
@@ -53,8 +56,9 @@ ServiceSpec parse_service(const std::string& file, const YAML::Node& node) {
     if (!n) return;
     const double v = config_number(file, n, key);
     if (v != std::floor(v) || v < lo || v > hi)
-      throw config_error(file, n, std::string("'") + key + "' must be a whole number from " + std::to_string(lo) +
-                                      " to " + std::to_string(hi));
+      throw config_error(
+          file, n,
+          std::string("'") + key + "' must be a whole number from " + std::to_string(lo) + " to " + std::to_string(hi));
     out = int(v);
   };
   whole("priority", 0, 99, s.priority);
@@ -94,7 +98,8 @@ Scene parse_scene(const std::string& file, const YAML::Node& node) {
       const std::string kind = config_text(file, o["kind"], "kind");
       if (kind != "rigid" && kind != "deformable")
         throw config_error(file, o["kind"], "scene object kind must be rigid or deformable, not '" + kind + "'");
-      if (!names.insert(name).second) throw config_error(file, o["name"], "scene object '" + name + "' is defined twice");
+      if (!names.insert(name).second)
+        throw config_error(file, o["name"], "scene object '" + name + "' is defined twice");
       scene.objects.push_back(o);
     }
   }
@@ -136,8 +141,10 @@ void add_scene(const std::string& file, const Scene& scene, ServiceSpec& s, cons
     const char* key = s.kind == "rigid" ? "bodies" : "objects";
     if (!params[key]) {
       const YAML::Node list = objects_of(s.kind);
-      if (list.size() == 0 && scene.defined) s.unneeded = "the scene has no " + s.kind + " object";
-      else params[key] = list;
+      if (list.size() == 0 && scene.defined)
+        s.unneeded = "the scene has no " + s.kind + " object";
+      else
+        params[key] = list;
     }
   } else if (s.kind == "tracker") {
     // An absent camera or marker is a null node, which converts to true: ask IsMap.
@@ -169,7 +176,8 @@ const char* to_string(OnFailure f) {
 
 void check_policy(const ServiceSpec& s, Mode mode) {
   if (mode == Mode::kLockstep && s.on_failure != OnFailure::kStopAll)
-    throw ConfigError(s.where + ": on_failure: " + to_string(s.on_failure) + " needs mode realtime (in lockstep the "
+    throw ConfigError(s.where + ": on_failure: " + to_string(s.on_failure) +
+                      " needs mode realtime (in lockstep the "
                       "clock waits on every follower at every step: one cannot be missing or rejoin)");
 }
 
@@ -258,8 +266,9 @@ double Params::number(const std::string& key, double fallback, double lo, double
   const YAML::Node n = node_[key];
   const double v = config_number(file_, n, key);
   if (v < lo || v > hi)
-    throw config_error(file_, n, "'" + key + "' = " + n.Scalar() + " is outside [" + std::to_string(lo) + ", " +
-                                     std::to_string(hi) + "]");
+    throw config_error(
+        file_, n,
+        "'" + key + "' = " + n.Scalar() + " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
   return v;
 }
 
@@ -341,8 +350,9 @@ std::vector<double> Params::numbers(const std::string& key, double lo, double hi
   for (const YAML::Node& item : n) {
     const double v = config_number(file_, item, key);
     if (v < lo || v > hi)
-      throw config_error(file_, item, "an entry of '" + key + "', " + item.Scalar() + ", is outside [" +
-                                          std::to_string(lo) + ", " + std::to_string(hi) + "]");
+      throw config_error(file_, item,
+                         "an entry of '" + key + "', " + item.Scalar() + ", is outside [" + std::to_string(lo) + ", " +
+                             std::to_string(hi) + "]");
     out.push_back(v);
   }
   return out;

@@ -48,8 +48,8 @@ struct ServiceSpec {
   // priority 1..99, 0 for the normal scheduler; the core to pin to, -1: any.
   int priority = 0;
   int cpu = -1;
-  std::string where;   // "FILE:LINE:COL" of its on_failure (else of the entry), for check_policy
-  int line = 0;        // 1-based line of the entry in the file
+  std::string where;  // "FILE:LINE:COL" of its on_failure (else of the entry), for check_policy
+  int line = 0;       // 1-based line of the entry in the file
 };
 
 // Throws ConfigError at the service's entry if its on_failure policy cannot
@@ -62,20 +62,20 @@ void check_policy(const ServiceSpec& s, Mode mode);
 // the keys of its service's objects; the camera is the tracker's params;
 // the marker gives the tracker its tag.
 struct Scene {
-  bool defined = false;              // the file has a scene: services it does not need are not started
-  YAML::Node marker;                 // {family, id, size}, or null
-  YAML::Node camera;                 // a map, or null
-  std::vector<YAML::Node> objects;   // maps with name and kind
+  bool defined = false;             // the file has a scene: services it does not need are not started
+  YAML::Node marker;                // {family, id, size}, or null
+  YAML::Node camera;                // a map, or null
+  std::vector<YAML::Node> objects;  // maps with name and kind
 };
 
 struct Deployment {
   std::string file;
   Scene scene;
-  int domain = 0;           // DDS domain id, 0..232
+  int domain = 0;  // DDS domain id, 0..232
   Mode mode = Mode::kRealtime;
-  double step_s = 0.001;    // base step, s: lockstep tick length
-  double duration_s = 0;    // s of simulated time (lockstep) or wall time; 0 = until stopped
-  std::string security;     // DDS Security credentials folder, from the file's folder; "" = off
+  double step_s = 0.001;       // base step, s: lockstep tick length
+  double duration_s = 0;       // s of simulated time (lockstep) or wall time; 0 = until stopped
+  std::string security;        // DDS Security credentials folder, from the file's folder; "" = off
   std::string security_where;  // "FILE:LINE:COL" of its section, for errors about it
   std::vector<ServiceSpec> services;
   std::string services_where;  // "FILE:LINE:COL" of 'services' (1:1 when absent), for errors about them

@@ -65,8 +65,10 @@ struct Matches : eprosima::fastdds::dds::DataWriterListener {
   void on_publication_matched(eprosima::fastdds::dds::DataWriter*,
                               const eprosima::fastdds::dds::PublicationMatchedStatus& s) override {
     std::lock_guard<std::mutex> l(m);
-    if (s.current_count_change > 0) readers.push_back(s.last_subscription_handle);
-    else readers.erase(std::remove(readers.begin(), readers.end(), s.last_subscription_handle), readers.end());
+    if (s.current_count_change > 0)
+      readers.push_back(s.last_subscription_handle);
+    else
+      readers.erase(std::remove(readers.begin(), readers.end(), s.last_subscription_handle), readers.end());
   }
   mutable std::mutex m;
   std::vector<eprosima::fastrtps::rtps::InstanceHandle_t> readers;
@@ -228,9 +230,7 @@ class Reader {
   }
 
   // Blocks until a sample is unread or `timeout` passes; true if one is.
-  bool wait(std::chrono::nanoseconds timeout) {
-    return reader_->wait_for_unread_message(to_dds(timeout));
-  }
+  bool wait(std::chrono::nanoseconds timeout) { return reader_->wait_for_unread_message(to_dds(timeout)); }
 
   // Samples Fast DDS reports this reader will never receive (gaps the
   // writer could not repair, or skipped), since it was made.

@@ -20,10 +20,8 @@ Participant::Participant(int domain, const std::string& name, const std::string&
                          DomainParticipantListener* listener, bool lockstep, const Security& security)
     : lockstep_(lockstep) {
   if (domain < 0 || domain > kMaxDomain)
-    throw std::runtime_error("domain id " + std::to_string(domain) + " is outside 0.." +
-                             std::to_string(kMaxDomain));
-  if (!std::ifstream(qos_file))
-    throw std::runtime_error("QoS profiles file " + qos_file + " cannot be read");
+    throw std::runtime_error("domain id " + std::to_string(domain) + " is outside 0.." + std::to_string(kMaxDomain));
+  if (!std::ifstream(qos_file)) throw std::runtime_error("QoS profiles file " + qos_file + " cannot be read");
   auto* factory = DomainParticipantFactory::get_instance();
   // Loading the same file twice in one process is harmless: profiles are keyed by name.
   if (factory->load_XML_profiles_file(qos_file) != ReturnCode_t::RETCODE_OK)
@@ -38,8 +36,8 @@ Participant::Participant(int domain, const std::string& name, const std::string&
     char* end = nullptr;
     const long v = std::strtol(id, &end, 10);
     if (*end != '\0' || v < 0 || v > kMaxParticipantId)
-      throw std::runtime_error("HCOSIM_PARTICIPANT_ID must be a whole number in 0.." + std::to_string(kMaxParticipantId) +
-                               ", not '" + id + "'");
+      throw std::runtime_error("HCOSIM_PARTICIPANT_ID must be a whole number in 0.." +
+                               std::to_string(kMaxParticipantId) + ", not '" + id + "'");
     qos.wire_protocol().participant_id = int32_t(v);
   }
   add_security(security, qos);

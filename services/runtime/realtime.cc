@@ -1,12 +1,12 @@
 #include "services/runtime/realtime.h"
 
-#include <cerrno>
-#include <cstring>
 #include <sched.h>
-#include <stdexcept>
 #include <sys/mman.h>
 #include <sys/resource.h>
 #include <unistd.h>
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
 
 namespace hcosim::services::runtime {
 namespace {
@@ -51,7 +51,8 @@ std::string apply(const Scheduling& s) {
     sched_param p{};
     p.sched_priority = s.priority;
     const int e = pthread_setschedparam(pthread_self(), SCHED_FIFO, &p);
-    if (e == 0) out = "SCHED_FIFO " + std::to_string(s.priority) + ", " + lock_memory();
+    if (e == 0)
+      out = "SCHED_FIFO " + std::to_string(s.priority) + ", " + lock_memory();
     else
       out = "normal scheduler (SCHED_FIFO " + std::to_string(s.priority) + " refused: " + std::strerror(e) +
             "; RLIMIT_RTPRIO " + rtprio_limit() + ")";

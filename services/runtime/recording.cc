@@ -31,7 +31,8 @@ U get(const char*& p) {
 
 }  // namespace
 
-RecordingWriter::RecordingWriter(const std::string& path) : path_(path), out_(path, std::ios::binary | std::ios::trunc) {
+RecordingWriter::RecordingWriter(const std::string& path)
+    : path_(path), out_(path, std::ios::binary | std::ios::trunc) {
   if (!out_) throw std::runtime_error(path + ": cannot be written");
   out_.write(kMagic, sizeof kMagic);
 }

@@ -20,10 +20,10 @@ namespace hcosim::services::runtime {
 
 struct Record {
   std::string topic;
-  std::uint64_t step = 0;          // StepStamp.step (ClockTick, StepDone: their step; topology: 0)
-  std::int64_t sim_time_ns = 0;    // StepStamp.sim_time_ns (0 where the type has none)
-  std::int64_t receive_ns = 0;     // CLOCK_REALTIME when the recorder took it, ns
-  std::vector<std::uint8_t> cdr;   // the sample, serialized as on the wire (encapsulation header first)
+  std::uint64_t step = 0;         // StepStamp.step (ClockTick, StepDone: their step; topology: 0)
+  std::int64_t sim_time_ns = 0;   // StepStamp.sim_time_ns (0 where the type has none)
+  std::int64_t receive_ns = 0;    // CLOCK_REALTIME when the recorder took it, ns
+  std::vector<std::uint8_t> cdr;  // the sample, serialized as on the wire (encapsulation header first)
 };
 
 // Appends records to a new file. Throws std::runtime_error when the file
@@ -58,8 +58,7 @@ class RecordingReader {
 template <class T>
 std::vector<std::uint8_t> to_cdr(const T& sample) {
   typename TopicOf<T>::PubSub type;
-  eprosima::fastrtps::rtps::SerializedPayload_t payload(
-      type.getSerializedSizeProvider(const_cast<T*>(&sample))());
+  eprosima::fastrtps::rtps::SerializedPayload_t payload(type.getSerializedSizeProvider(const_cast<T*>(&sample))());
   if (!type.serialize(const_cast<T*>(&sample), &payload))
     throw std::runtime_error(std::string("cannot serialize a ") + TopicOf<T>::name);
   return {payload.data, payload.data + payload.length};

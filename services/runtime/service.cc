@@ -1,5 +1,6 @@
 #include "services/runtime/service.h"
 
+#include <unistd.h>
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
@@ -11,7 +12,6 @@
 #include <iostream>
 #include <stdexcept>
 #include <thread>
-#include <unistd.h>
 
 namespace hcosim::services::runtime {
 namespace {
@@ -46,8 +46,9 @@ std::uint64_t steps_per_period(const Options& o) {
   const double whole = std::round(ratio);
   if (o.mode == Mode::kRealtime) return static_cast<std::uint64_t>(std::max(1.0, whole));
   if (whole < 1 || std::abs(ratio - whole) > 1e-6 * whole)
-    throw std::invalid_argument("rate " + std::to_string(o.rate_hz) + " Hz is not a whole divisor of the base step rate " +
-                                std::to_string(1.0 / o.step_s) + " Hz");
+    throw std::invalid_argument("rate " + std::to_string(o.rate_hz) +
+                                " Hz is not a whole divisor of the base step rate " + std::to_string(1.0 / o.step_s) +
+                                " Hz");
   return static_cast<std::uint64_t>(whole);
 }
 
@@ -63,15 +64,16 @@ Params params_of(const Deployment& d, const std::string& name) {
 double value_of(const std::string& flag, const char* v) {
   char* end = nullptr;
   const double x = std::strtod(v, &end);
-  if (end == v || *end != '\0' || !std::isfinite(x)) throw std::invalid_argument(flag + " needs a number, not '" + v + "'");
+  if (end == v || *end != '\0' || !std::isfinite(x))
+    throw std::invalid_argument(flag + " needs a number, not '" + v + "'");
   return x;
 }
 
 int whole_of(const std::string& flag, const char* v, int lo, int hi) {
   const double x = value_of(flag, v);
   if (x != std::floor(x) || x < lo || x > hi)
-    throw std::invalid_argument(flag + " needs a whole number from " + std::to_string(lo) + " to " + std::to_string(hi) +
-                                ", not '" + v + "'");
+    throw std::invalid_argument(flag + " needs a whole number from " + std::to_string(lo) + " to " +
+                                std::to_string(hi) + ", not '" + v + "'");
   return int(x);
 }
 
@@ -102,18 +104,30 @@ Options parse_options(int argc, char** argv) {
     const std::string flag = argv[i];
     if (i + 1 >= argc) throw std::invalid_argument(flag + " needs a value");
     const char* v = argv[++i];
-    if (flag == "--name") o.name = v;
-    else if (flag == "--domain") o.domain = static_cast<int>(value_of(flag, v));
-    else if (flag == "--mode") o.mode = parse_mode(v);
-    else if (flag == "--rate") o.rate_hz = value_of(flag, v);
-    else if (flag == "--step") o.step_s = value_of(flag, v);
-    else if (flag == "--duration") o.duration_s = value_of(flag, v);
-    else if (flag == "--qos") o.qos_file = v;
-    else if (flag == "--deployment") o.deployment = v;
-    else if (flag == "--out") o.out = v;
-    else if (flag == "--priority") o.scheduling.priority = whole_of(flag, v, 0, 99);
-    else if (flag == "--cpu") o.scheduling.cpu = whole_of(flag, v, -1, 1023);
-    else throw std::invalid_argument("unknown option " + flag);
+    if (flag == "--name")
+      o.name = v;
+    else if (flag == "--domain")
+      o.domain = static_cast<int>(value_of(flag, v));
+    else if (flag == "--mode")
+      o.mode = parse_mode(v);
+    else if (flag == "--rate")
+      o.rate_hz = value_of(flag, v);
+    else if (flag == "--step")
+      o.step_s = value_of(flag, v);
+    else if (flag == "--duration")
+      o.duration_s = value_of(flag, v);
+    else if (flag == "--qos")
+      o.qos_file = v;
+    else if (flag == "--deployment")
+      o.deployment = v;
+    else if (flag == "--out")
+      o.out = v;
+    else if (flag == "--priority")
+      o.scheduling.priority = whole_of(flag, v, 0, 99);
+    else if (flag == "--cpu")
+      o.scheduling.cpu = whole_of(flag, v, -1, 1023);
+    else
+      throw std::invalid_argument("unknown option " + flag);
   }
   if (o.name.empty() || o.name.size() > 31) throw std::invalid_argument("--name NAME (1 to 31 characters) is required");
   if (!(o.rate_hz > 0)) throw std::invalid_argument("--rate HZ (> 0) is required");
@@ -244,7 +258,8 @@ bool acknowledged(Wait&& wait) {
 }
 
 int Service::run_lockstep(const std::function<void(const Tick&)>& step) {
-  Reader<ClockTick> ticks(participant_, [](const ClockTick& t) { return adapters::validate(t); }, &rejections_);
+  Reader<ClockTick> ticks(
+      participant_, [](const ClockTick& t) { return adapters::validate(t); }, &rejections_);
   Writer<StepDone> done(participant_);
   std::uint64_t expected = 0;
   bool finished = false;
@@ -278,8 +293,9 @@ int Service::run_lockstep(const std::function<void(const Tick&)>& step) {
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
       // This step's outputs reach every reader before the clock hears the
       // step is done, so the next step's inputs are all there.
-      if (!acknowledged([&](auto d) { return participant_.publisher()->wait_for_acknowledgments(to_dds(d)) ==
-                                              ReturnCode_t::RETCODE_OK; }) &&
+      if (!acknowledged([&](auto d) {
+            return participant_.publisher()->wait_for_acknowledgments(to_dds(d)) == ReturnCode_t::RETCODE_OK;
+          }) &&
           !g_stop)
         std::cerr << options_.name << ": step " << t.step() << ": outputs not acknowledged by every reader in 2 s\n";
       StepDone d;

@@ -9,27 +9,27 @@
 #include <optional>
 #include <string>
 
+#include "adapters/validate.h"
 #include "services/runtime/deployment.h"
 #include "services/runtime/endpoint.h"
 #include "services/runtime/participant.h"
 #include "services/runtime/realtime.h"
 #include "services/runtime/stats.h"
-#include "adapters/validate.h"
 
 namespace hcosim::services::runtime {
 
 // Command-line options shared by every service executable.
 struct Options {
-  std::string name;           // --name: service name, key of its ServiceStatus
-  int domain = 0;             // --domain
+  std::string name;             // --name: service name, key of its ServiceStatus
+  int domain = 0;               // --domain
   Mode mode = Mode::kRealtime;  // --mode realtime|lockstep
-  double rate_hz = 0;         // --rate: step rate, Hz (required)
-  double step_s = 0;          // --step: base step, s (default 1/rate)
-  double duration_s = 0;      // --duration: s; 0 = until stopped (realtime only)
-  std::string qos_file;       // --qos (default: default_qos_file())
-  std::string deployment;     // --deployment: file holding this service's params
-  std::string out = "out";    // --out: folder for the files a service writes (videos, plots)
-  Scheduling scheduling;      // --priority (SCHED_FIFO 1..99, 0 normal), --cpu: real time only
+  double rate_hz = 0;           // --rate: step rate, Hz (required)
+  double step_s = 0;            // --step: base step, s (default 1/rate)
+  double duration_s = 0;        // --duration: s; 0 = until stopped (realtime only)
+  std::string qos_file;         // --qos (default: default_qos_file())
+  std::string deployment;       // --deployment: file holding this service's params
+  std::string out = "out";      // --out: folder for the files a service writes (videos, plots)
+  Scheduling scheduling;        // --priority (SCHED_FIFO 1..99, 0 normal), --cpu: real time only
 };
 
 // Parses argv; throws std::invalid_argument with a usage message on error.
@@ -37,10 +37,10 @@ Options parse_options(int argc, char** argv);
 
 // One step of a service.
 struct Tick {
-  std::uint64_t step;       // base-step index (StepStamp.step of outputs)
-  std::int64_t sim_time_ns; // simulated time at this step
-  double dt_s;              // time since this service's previous step, s
-  double late_us = 0;       // real time: how late the step woke after it was due, us (0 in lockstep)
+  std::uint64_t step;        // base-step index (StepStamp.step of outputs)
+  std::int64_t sim_time_ns;  // simulated time at this step
+  double dt_s;               // time since this service's previous step, s
+  double late_us = 0;        // real time: how late the step woke after it was due, us (0 in lockstep)
 };
 
 class Service {
@@ -56,7 +56,8 @@ class Service {
   // `depth` > 0 keeps that many samples per instance (see Reader).
   template <class T>
   Reader<T> reader(const std::string& profile = TopicOf<T>::qos, int depth = 0) {
-    return Reader<T>(participant_, [](const T& s) { return adapters::validate(s); }, &rejections_, profile, depth);
+    return Reader<T>(
+        participant_, [](const T& s) { return adapters::validate(s); }, &rejections_, profile, depth);
   }
 
   // The admissible samples of `r` for this step: in real time all that

@@ -17,13 +17,13 @@ namespace hcosim::services::runtime {
 template <class T>
 struct TopicOf;
 
-#define HCOSIM_TOPIC(Type, topic_name, profile)                    \
-  template <>                                                      \
-  struct TopicOf<Type> {                                             \
-    using PubSub = Type##PubSubType;                               \
-    static constexpr const char* name = topic_name;                \
-    static constexpr const char* type_name = "hcosim::" #Type;     \
-    static constexpr const char* qos = profile;                    \
+#define HCOSIM_TOPIC(Type, topic_name, profile)                \
+  template <>                                                  \
+  struct TopicOf<Type> {                                       \
+    using PubSub = Type##PubSubType;                           \
+    static constexpr const char* name = topic_name;            \
+    static constexpr const char* type_name = "hcosim::" #Type; \
+    static constexpr const char* qos = profile;                \
   }
 
 HCOSIM_TOPIC(HapticState, "HapticState", "control");
@@ -40,8 +40,8 @@ HCOSIM_TOPIC(StepDone, "StepDone", "sequence");
 
 #undef HCOSIM_TOPIC
 
-using AllTypes = std::tuple<HapticState, ForceFeedback, MarkerPose, CameraFrame, RigidBodyState,
-                            RigidDivergence, DeformedMesh, MeshTopology, ServiceStatus, ClockTick, StepDone>;
+using AllTypes = std::tuple<HapticState, ForceFeedback, MarkerPose, CameraFrame, RigidBodyState, RigidDivergence,
+                            DeformedMesh, MeshTopology, ServiceStatus, ClockTick, StepDone>;
 
 // Carries a type to generic lambdas: f(TypeTag<T>{}).
 template <class T>

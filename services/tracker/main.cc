@@ -8,11 +8,11 @@
 #include <cstdio>
 #include <memory>
 
-#include "services/runtime/service.h"
 #include "adapters/vision/calibration.h"
 #include "adapters/vision/source.h"
-#include "models/vision/tracker.h"
 #include "adapters/vision/vision_idl.h"
+#include "models/vision/tracker.h"
+#include "services/runtime/service.h"
 
 using namespace hcosim;
 using namespace hcosim::services::runtime;
@@ -55,9 +55,11 @@ int run(int argc, char** argv) {
   Service svc(parse_options(argc, argv));
   const Params& p = svc.params();
   const std::string& name = svc.options().name;
-  p.allow_only({"source", "path", "device", "camera", "width", "height", "condition", "tag_id", "family", "tag_size",
-                "quad_decimate", "quad_sigma", "nthreads", "refine_edges", "decode_sharpening", "max_hamming",
-                "refine_corners", "refine_pose", "frames", "loop", "sheet", "orbit"});
+  p.allow_only({"source",        "path",           "device",      "camera",       "width",
+                "height",        "condition",      "tag_id",      "family",       "tag_size",
+                "quad_decimate", "quad_sigma",     "nthreads",    "refine_edges", "decode_sharpening",
+                "max_hamming",   "refine_corners", "refine_pose", "frames",       "loop",
+                "sheet",         "orbit"});
   const std::string kind = p.text("source", "synthetic", {"synthetic", "folder", "video", "v4l2"});
   const models::vision::TrackerParams tp = tracker_params(p);
   const bool publish_frames = p.on("frames", true), loop = p.on("loop", false);
@@ -81,9 +83,10 @@ int run(int argc, char** argv) {
     const models::vision::Orbit path = orbit_params(p.map("orbit"));
     if (camera_file.empty()) k = models::vision::synthetic_intrinsics(width, height);
     k = adapters::vision::with_frame_size(k, width, height, camera_file);
-    auto s = std::make_unique<adapters::vision::SyntheticSource>(models::vision::SyntheticCamera(k, m),
-                                                       models::vision::condition(p.text("condition", "clean", {"clean", "noisy", "blurred"})),
-                                                       svc.options().rate_hz, 0, path);
+    auto s = std::make_unique<adapters::vision::SyntheticSource>(
+        models::vision::SyntheticCamera(k, m),
+        models::vision::condition(p.text("condition", "clean", {"clean", "noisy", "blurred"})), svc.options().rate_hz,
+        0, path);
     // The sheet's corners on the table and half its edge above it: where
     // the scene's objects stand.
     const double h = 0.5 * m.sheet * m.tag_size;
@@ -96,7 +99,8 @@ int run(int argc, char** argv) {
     source = adapters::vision::open_v4l2(p.string("device", "/dev/video0"), width, height, svc.options().rate_hz);
   } else {
     const std::string path = p.path("path");
-    if (path.empty()) p.fail("path", "source '" + kind + "' needs path: the " + (kind == "video" ? "video file" : "image folder"));
+    if (path.empty())
+      p.fail("path", "source '" + kind + "' needs path: the " + (kind == "video" ? "video file" : "image folder"));
     source = kind == "video" ? adapters::vision::open_video(path) : adapters::vision::open_folder(path);
   }
   std::printf("%s: %s; %s tags of %.4g m\n", name.c_str(), source->describe().c_str(), tp.detector.family.c_str(),
@@ -124,7 +128,8 @@ int run(int argc, char** argv) {
     }
     ++n_frames;
     if (!f.problem.empty()) {
-      std::fprintf(stderr, "%s: frame %llu: %s, skipped\n", name.c_str(), (unsigned long long)f.index, f.problem.c_str());
+      std::fprintf(stderr, "%s: frame %llu: %s, skipped\n", name.c_str(), (unsigned long long)f.index,
+                   f.problem.c_str());
       ++unreadable;
       return;
     }
@@ -146,7 +151,7 @@ int run(int argc, char** argv) {
     for (const models::vision::Observation& o : seen) {
       ++detections;
       MarkerPose m = adapters::vision::marker_pose(name, tp.detector.family, stamp, f.index, tp.tag_size, o,
-                                         (mono_ns() - f.capture_ns) * 1e-6);
+                                                   (mono_ns() - f.capture_ns) * 1e-6);
       // A pose the subscribers would refuse (a degenerate fit) is not sent.
       if (adapters::validate(m)) {
         ++refused;
@@ -172,25 +177,28 @@ int run(int argc, char** argv) {
       frames.write(c);
     }
   });
-  std::printf("%s: %llu frames, %llu with a tag, %llu detections; reading a frame p50 %.2f ms, detection and pose "
-              "p50 %.2f ms p99 %.2f ms; %llu unreadable, %llu of another size, %llu poses refused\n",
-              name.c_str(), (unsigned long long)n_frames, (unsigned long long)with_tag,
-              (unsigned long long)detections, read_ms.percentile(0.5), track_ms.percentile(0.5),
-              track_ms.percentile(0.99),
-              (unsigned long long)unreadable, (unsigned long long)skipped,
-              (unsigned long long)(refused + (tracker ? tracker->unposed() : 0)));
+  std::printf(
+      "%s: %llu frames, %llu with a tag, %llu detections; reading a frame p50 %.2f ms, detection and pose "
+      "p50 %.2f ms p99 %.2f ms; %llu unreadable, %llu of another size, %llu poses refused\n",
+      name.c_str(), (unsigned long long)n_frames, (unsigned long long)with_tag, (unsigned long long)detections,
+      read_ms.percentile(0.5), track_ms.percentile(0.5), track_ms.percentile(0.99), (unsigned long long)unreadable,
+      (unsigned long long)skipped, (unsigned long long)(refused + (tracker ? tracker->unposed() : 0)));
   if (synthetic && trans_pct.size())
-    std::printf("%s: against the synthetic truth: translation error p50 %.3f%% p95 %.3f%% of distance, rotation "
-                "error p50 %.3f deg p95 %.3f deg\n",
-                name.c_str(), trans_pct.percentile(0.5), trans_pct.percentile(0.95), rot_deg.percentile(0.5),
-                rot_deg.percentile(0.95));
+    std::printf(
+        "%s: against the synthetic truth: translation error p50 %.3f%% p95 %.3f%% of distance, rotation "
+        "error p50 %.3f deg p95 %.3f deg\n",
+        name.c_str(), trans_pct.percentile(0.5), trans_pct.percentile(0.95), rot_deg.percentile(0.5),
+        rot_deg.percentile(0.95));
   if (synthetic && reg_px.size())
-    std::printf("%s: registration error (the sheet's corners and half its edge above them) p50 %.2f px p95 %.2f px "
-                "max %.2f px\n",
-                name.c_str(), reg_px.percentile(0.5), reg_px.percentile(0.95), reg_px.percentile(1));
+    std::printf(
+        "%s: registration error (the sheet's corners and half its edge above them) p50 %.2f px p95 %.2f px "
+        "max %.2f px\n",
+        name.c_str(), reg_px.percentile(0.5), reg_px.percentile(0.95), reg_px.percentile(1));
   return status;
 }
 
 }  // namespace
 
-int main(int argc, char** argv) { return guarded_main("hcosim_tracker", [&] { return run(argc, argv); }); }
+int main(int argc, char** argv) {
+  return guarded_main("hcosim_tracker", [&] { return run(argc, argv); });
+}

@@ -19,7 +19,8 @@ namespace hcosim::fuzz {
 // go by the name (OpenCV's FileStorage).
 inline std::string scratch(const std::uint8_t* data, std::size_t size, const std::string& ext) {
   static const std::string path = "/tmp/hcosim_fuzz_" + std::to_string(getpid()) + ext;
-  std::ofstream(path, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data), std::streamsize(size));
+  std::ofstream(path, std::ios::binary | std::ios::trunc)
+      .write(reinterpret_cast<const char*>(data), std::streamsize(size));
   return path;
 }
 

@@ -1,7 +1,7 @@
 // Wavefront OBJ meshes (models/massspring/mesh_lattice.h), then the checks
 // a mesh object runs before it is voxelised.
-#include "tests/fuzz/fuzz_input.h"
 #include "models/massspring/mesh_lattice.h"
+#include "tests/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string path = hcosim::fuzz::scratch(data, size, ".obj");

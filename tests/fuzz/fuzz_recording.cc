@@ -1,9 +1,9 @@
 // Recordings (runtime/recording.h) as `hcosim export` and `replay` read
 // them: every record's CDR bytes decoded as its topic's type, then
 // validated as a sample arriving over DDS would be.
-#include "tests/fuzz/fuzz_input.h"
-#include "services/runtime/recording.h"
 #include "adapters/validate.h"
+#include "services/runtime/recording.h"
+#include "tests/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string path = hcosim::fuzz::scratch(data, size, ".rec");

@@ -4,9 +4,9 @@
 // crashing or allocating without bound.
 #include <vector>
 
-#include "tests/fuzz/fuzz_input.h"
-#include "services/runtime/recording.h"
 #include "adapters/validate.h"
+#include "services/runtime/recording.h"
+#include "tests/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 1) return 0;
@@ -15,7 +15,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   return hcosim::fuzz::refuse_or_accept([&] {
     hcosim::services::runtime::for_each_topic([&](auto tag) {
       using T = typename decltype(tag)::type;
-      if (k++ == data[0] % std::tuple_size_v<hcosim::services::runtime::AllTypes>) hcosim::adapters::validate(hcosim::services::runtime::from_cdr<T>(payload));
+      if (k++ == data[0] % std::tuple_size_v<hcosim::services::runtime::AllTypes>)
+        hcosim::adapters::validate(hcosim::services::runtime::from_cdr<T>(payload));
     });
   });
 }

@@ -85,8 +85,10 @@ int main(int argc, char** argv) {
     }
     if (dds_take(mesh_r, samples, info, 1, 1) > 0) {
       if (info[0].valid_data) {
-        if (model ? model_mesh_ok(samples[0], n) : mesh_ok(samples[0], n)) ++good;
-        else ++bad;
+        if (model ? model_mesh_ok(samples[0], n) : mesh_ok(samples[0], n))
+          ++good;
+        else
+          ++bad;
       }
       dds_return_loan(mesh_r, samples, 1);
       samples[0] = NULL;

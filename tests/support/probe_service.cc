@@ -152,10 +152,14 @@ int run(Options o) {
   p.allow_only({"role", "nan_every", "fail_after", "vertices", "stiffness", "profile", "start_delay", "delay"});
   const std::string role = p.text("role", "source", {"source", "wall", "camera", "mesh"});
   std::this_thread::sleep_for(std::chrono::duration<double>(p.number("start_delay", 0, 0, 60)));
-  Probe probe{svc, o.name, p.number("nan_every", 0, 0, 1e6), p.number("fail_after", 0, 0, 1e6),
-              p.number("stiffness", 500, 0, 1e5), std::uint32_t(p.number("vertices", 1000, 3, 1e6))};
-  const int code = role == "source" ? probe.source(p.text("profile", "control", {"control", "state"}))
-                   : role == "wall" ? probe.wall(p.number("delay", 0, 0, 1))
+  Probe probe{svc,
+              o.name,
+              p.number("nan_every", 0, 0, 1e6),
+              p.number("fail_after", 0, 0, 1e6),
+              p.number("stiffness", 500, 0, 1e5),
+              std::uint32_t(p.number("vertices", 1000, 3, 1e6))};
+  const int code = role == "source"   ? probe.source(p.text("profile", "control", {"control", "state"}))
+                   : role == "wall"   ? probe.wall(p.number("delay", 0, 0, 1))
                    : role == "camera" ? probe.camera()
                                       : probe.mesh();
   std::printf("probe %s: role %s, steps %llu, sent %llu, answers %llu\n", o.name.c_str(), role.c_str(),

@@ -13,12 +13,12 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "adapters/render/ar_idl.h"
+#include "adapters/vision/source.h"
+#include "adapters/vision/vision_idl.h"
 #include "models/render/plot.h"
 #include "models/render/view.h"
-#include "adapters/vision/source.h"
 #include "models/vision/synthetic.h"
 #include "models/vision/tracker.h"
-#include "adapters/vision/vision_idl.h"
 
 namespace hcosim::adapters::render {
 
@@ -111,7 +111,8 @@ TEST(ArView, UprightOrbitKeepsTheMarkersUpOnTheImagesUp) {
     EXPECT_NEAR(origin.y(), k.cy, 1e-6);
     EXPECT_NEAR(p.translation().norm(), 0.3 + 0.02 * std::sin(2 * M_PI * t / 40), 1e-12);
     EXPECT_LT(models::vision::project(k, p, {0, 0, 0.05}).y(), origin.y() - 50) << t;  // up is up
-    EXPECT_GT(models::vision::project(k, p, {0, -0.05, 0}).y(), models::vision::project(k, p, {0, 0.05, 0}).y());  // -y is near
+    EXPECT_GT(models::vision::project(k, p, {0, -0.05, 0}).y(),
+              models::vision::project(k, p, {0, 0.05, 0}).y());  // -y is near
   }
   o.sweep_deg = 180;
   EXPECT_THROW(models::vision::check(o), std::invalid_argument);
@@ -147,7 +148,8 @@ TEST(ArRegistration, ErrorIsInPixelsAndSmallAlongTheDefaultOrbit) {
   while (source.next(f)) {
     const auto seen = tracker.track(f.image);
     ASSERT_EQ(seen.size(), 1u) << "frame " << f.index;
-    errors.push_back(models::vision::registration_error_px(k, seen[0].pose.tag_in_camera, source.truth(f.index), scene));
+    errors.push_back(
+        models::vision::registration_error_px(k, seen[0].pose.tag_in_camera, source.truth(f.index), scene));
   }
   std::sort(errors.begin(), errors.end());
   EXPECT_LT(errors[std::size_t(0.95 * double(errors.size() - 1))], 3.0);

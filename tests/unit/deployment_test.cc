@@ -77,8 +77,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"duplicate", "services:\n  - {name: a, kind: b, rate: 5}\n  - {name: a, kind: b, rate: 5}\n",
                 ":3:12: ", "used twice"},
         BadCase{"reserved", "services:\n  - {name: clock, kind: b, rate: 5}\n", ":2:12: ", "reserved"},
-        BadCase{"on_failure", "services:\n  - {name: a, kind: b, rate: 5, on_failure: retry}\n", ":2:45: ",
-                "stop_all, restart or ignore"},
+        BadCase{"on_failure", "services:\n  - {name: a, kind: b, rate: 5, on_failure: retry}\n",
+                ":2:45: ", "stop_all, restart or ignore"},
         BadCase{"restart_lockstep", "mode: lockstep\nservices:\n  - {name: a, kind: b, rate: 5, on_failure: restart}\n",
                 ":3:45: ", "needs mode realtime"},
         BadCase{"scene_key", "scene:\n  objekts: []\n", ":2:3: ", "did you mean 'objects'?"},
@@ -89,10 +89,12 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"security_type", "security: keys\n", ":1:11: ", "a map with 'dir'"},
         BadCase{"security_key", "security: {dri: keys}\n", ":1:12: ", "did you mean 'dir'?"},
         BadCase{"security_empty", "security: {dir: ''}\n", ":1:17: ", "'dir' must name a folder"},
-        BadCase{"priority", "services:\n  - {name: a, kind: b, rate: 5, priority: 100}\n", ":2:43: ",
-                "'priority' must be a whole number from 0 to 99"},
-        BadCase{"cpu", "services:\n  - {name: a, kind: b, rate: 5, cpu: 0.5}\n", ":2:38: ", "'cpu' must be a whole number"},
-        BadCase{"undefined_object", "scene:\n  objects: []\nservices:\n  - {name: a, kind: rigid, rate: 5, objects: [x]}\n",
+        BadCase{"priority", "services:\n  - {name: a, kind: b, rate: 5, priority: 100}\n",
+                ":2:43: ", "'priority' must be a whole number from 0 to 99"},
+        BadCase{"cpu", "services:\n  - {name: a, kind: b, rate: 5, cpu: 0.5}\n",
+                ":2:38: ", "'cpu' must be a whole number"},
+        BadCase{"undefined_object",
+                "scene:\n  objects: []\nservices:\n  - {name: a, kind: rigid, rate: 5, objects: [x]}\n",
                 ":4:47: ", "no object 'x' in the scene"}),
     [](const auto& info) { return std::string(info.param.name); });
 
@@ -147,8 +149,9 @@ TEST(Deployment, MissingFileIsNamed) {
 }
 
 TEST(Params, RangeAndChoiceErrorsAreLocated) {
-  const std::string f = write_file("params.yaml", "services:\n  - name: a\n    kind: b\n    rate: 5\n"
-                                                  "    params:\n      gain: 7\n      role: boss\n");
+  const std::string f = write_file("params.yaml",
+                                   "services:\n  - name: a\n    kind: b\n    rate: 5\n"
+                                   "    params:\n      gain: 7\n      role: boss\n");
   const Deployment d = load_deployment(f);
   const Params p(f, d.services[0].params);
   EXPECT_EQ(p.number("absent", 1.5, 0, 2), 1.5);
@@ -165,8 +168,9 @@ TEST(Params, RangeAndChoiceErrorsAreLocated) {
 
 // A file written back by a YAML library says true and false.
 TEST(Params, SwitchesTakeOnOffTrueAndFalse) {
-  const std::string f = write_file("switch.yaml", "services:\n  - name: a\n    kind: b\n    rate: 5\n"
-                                                  "    params: {a: on, b: off, c: true, d: false, e: yes}\n");
+  const std::string f = write_file("switch.yaml",
+                                   "services:\n  - name: a\n    kind: b\n    rate: 5\n"
+                                   "    params: {a: on, b: off, c: true, d: false, e: yes}\n");
   const Params p(f, load_deployment(f).services[0].params);
   EXPECT_TRUE(p.on("a", false));
   EXPECT_FALSE(p.on("b", true));
@@ -182,9 +186,10 @@ TEST(Params, SwitchesTakeOnOffTrueAndFalse) {
 }
 
 TEST(Params, MapsAndNumberListsAreReadWithLocatedErrors) {
-  const std::string f = write_file("lists.yaml", "services:\n  - name: a\n    kind: b\n    rate: 5\n"
-                                                 "    params:\n      orbit: {distance: 0.3}\n      at: [1, 2.5]\n"
-                                                 "      bad: [1, x]\n      far: [1, 9]\n      flat: 3\n");
+  const std::string f = write_file("lists.yaml",
+                                   "services:\n  - name: a\n    kind: b\n    rate: 5\n"
+                                   "    params:\n      orbit: {distance: 0.3}\n      at: [1, 2.5]\n"
+                                   "      bad: [1, x]\n      far: [1, 9]\n      flat: 3\n");
   const Deployment d = load_deployment(f);
   const Params p(f, d.services[0].params);
   EXPECT_EQ(p.map("orbit").number("distance", 0, 0, 1), 0.3);
@@ -206,8 +211,11 @@ TEST(Params, MapsAndNumberListsAreReadWithLocatedErrors) {
   EXPECT_EQ(p.whole("flat", 0, 0, 5), 3);
   EXPECT_EQ(p.whole("absent", 4, 0, 5), 4);
   EXPECT_NE(message([&] { p.whole("flat", 0, 0, 2); }).find(":10:13: 'flat' = 3 is outside"), std::string::npos);
-  EXPECT_NE(message([&] { p.map("orbit").whole("distance", 0, 0, 1); }).find(":6:25: 'distance' = 0.3 must be a whole number"),
-            std::string::npos) << message([&] { p.map("orbit").whole("distance", 0, 0, 1); });
+  EXPECT_NE(message([&] {
+              p.map("orbit").whole("distance", 0, 0, 1);
+            }).find(":6:25: 'distance' = 0.3 must be a whole number"),
+            std::string::npos)
+      << message([&] { p.map("orbit").whole("distance", 0, 0, 1); });
   EXPECT_NE(message([&] { p.map("flat"); }).find("'flat' must be a map of keys"), std::string::npos);
 }
 
@@ -227,7 +235,8 @@ TEST(Deployment, TheArViewGetsEveryObjectAndTheMarker) {
   EXPECT_EQ(objects[0].number("size", 0, 0, 1), 0.01);
   EXPECT_EQ(objects[1].string("name", ""), "cube");
   const Deployment no_camera = load_deployment(write_file(
-      "ar2.yaml", "scene:\n  objects: [{name: box, kind: rigid}]\nservices:\n  - {name: view, kind: ar_view, rate: 25}\n"));
+      "ar2.yaml",
+      "scene:\n  objects: [{name: box, kind: rigid}]\nservices:\n  - {name: view, kind: ar_view, rate: 25}\n"));
   EXPECT_EQ(no_camera.services[0].unneeded, "the scene has no camera");
 }
 

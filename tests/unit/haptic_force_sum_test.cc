@@ -49,7 +49,7 @@ TEST(HapticLocalModel, ReproducesALinearContactInsideItsRadius) {
   const Eigen::Vector3d p(0.01, -0.02, -0.001);
   const LocalModel m = contact_model(wall(p), p, {0, 0, 1}, k, 0.004);
   for (const Eigen::Vector3d& d : {Eigen::Vector3d(0, 0, -0.001), Eigen::Vector3d(0.002, -0.001, 0.0005),
-                                  Eigen::Vector3d(0.001, 0.001, -0.002), Eigen::Vector3d(0, 0, 0)})
+                                   Eigen::Vector3d(0.001, 0.001, -0.002), Eigen::Vector3d(0, 0, 0)})
     EXPECT_NEAR((evaluate(m, p + d) - wall(p + d)).norm(), 0, 1e-12) << d.transpose();
   // Sliding along the wall changes nothing: no stiffness across the normal.
   EXPECT_NEAR((evaluate(m, p + Eigen::Vector3d(0.003, 0.002, 0)) - wall(p)).norm(), 0, 1e-12);

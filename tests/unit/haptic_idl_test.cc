@@ -64,7 +64,7 @@ TEST(HapticIdl, FreeSpaceAnswersCoverTheHipForHalfTheHorizon) {
   const double dt = 0.001;
   EXPECT_TRUE(answer_covered(f, 7, hip + Eigen::Vector3d(0, 0.003, 0), 8, dt));
   EXPECT_FALSE(answer_covered(f, 7, hip + Eigen::Vector3d(0, 0.005, 0), 8, dt));  // out of the free ball
-  EXPECT_TRUE(answer_covered(f, 7, hip, 17, dt));                                  // 10 ms: half the horizon
+  EXPECT_TRUE(answer_covered(f, 7, hip, 17, dt));                                 // 10 ms: half the horizon
   EXPECT_FALSE(answer_covered(f, 7, hip, 18, dt));
   EXPECT_FALSE(answer_covered(free_feel(hip, 0), 7, hip, 8, dt));
   const Feel touching = contact_feel({0, 0, 1}, hip, {0, 0, 1}, 500, 0.002, kContactModelRadius);

@@ -101,8 +101,7 @@ TEST(HapticScript, NonsenseIsRefusedWithTheActionNamed) {
 
 class ScriptFiles : public ::testing::Test {
  protected:
-  std::filesystem::path dir = std::filesystem::temp_directory_path() /
-                              ("hcosim_script_" + std::to_string(::getpid()));
+  std::filesystem::path dir = std::filesystem::temp_directory_path() / ("hcosim_script_" + std::to_string(::getpid()));
   void SetUp() override { std::filesystem::create_directories(dir); }
   void TearDown() override { std::filesystem::remove_all(dir); }
   std::string write(const std::string& name, const std::string& text) {
@@ -142,14 +141,17 @@ actions:
 }
 
 TEST_F(ScriptFiles, ErrorsNameTheFileAndLine) {
-  EXPECT_NE(error("actions:\n  - hold: {duration: 1}\n  - prss: {depth: 0.01}\n").find("bad.yaml:3:5: unknown key 'prss'; did you mean 'press'?"),
+  EXPECT_NE(error("actions:\n  - hold: {duration: 1}\n  - prss: {depth: 0.01}\n")
+                .find("bad.yaml:3:5: unknown key 'prss'; did you mean 'press'?"),
             std::string::npos);
-  EXPECT_NE(error("actions:\n  - press: {depth: 0.01, force: 1}\n").find("bad.yaml:2:5: press: give exactly one of depth and force"),
+  EXPECT_NE(error("actions:\n  - press: {depth: 0.01, force: 1}\n")
+                .find("bad.yaml:2:5: press: give exactly one of depth and force"),
             std::string::npos);
   EXPECT_NE(error("actions:\n  - move_to: {to: [0, 0], speed: 1}\n").find("bad.yaml:2:19: 'to' must be [x, y, z]"),
             std::string::npos);
-  EXPECT_NE(error("actions:\n  - hold: {duration: fast}\n").find("bad.yaml:2:22: 'duration' must be a number, not 'fast'"),
-            std::string::npos);
+  EXPECT_NE(
+      error("actions:\n  - hold: {duration: fast}\n").find("bad.yaml:2:22: 'duration' must be a number, not 'fast'"),
+      std::string::npos);
   EXPECT_NE(error("start: [0, 0\n").find("bad.yaml:"), std::string::npos);
   const std::string buttons = error("actions:\n  - hold: {duration: 1, buttons: 1.5}\n");
   EXPECT_NE(buttons.find("bad.yaml:2:34: 'buttons' is a bit mask"), std::string::npos) << buttons;
@@ -169,7 +171,7 @@ actions:
   while (!u.done()) u.next(Eigen::Vector3d::Zero()), held.push_back(u.buttons());
   u.next(Eigen::Vector3d::Zero());
   EXPECT_EQ(held, (std::vector<unsigned>{0, 0, 1, 1, 1, 3, 3, 0, 0}));  // the stroke: 2 ticks and its arrival
-  EXPECT_EQ(u.buttons(), 0u);  // done: nothing held
+  EXPECT_EQ(u.buttons(), 0u);                                           // done: nothing held
 }
 
 }  // namespace

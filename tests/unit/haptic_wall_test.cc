@@ -33,7 +33,8 @@ TEST(HapticWall, DelayedStiffWallStaysStableWithPassivityControl) {
       rig.delay_s = delay;
       const WallRun run = run_wall(rig);
       SCOPED_TRACE("k " + std::to_string(k) + " delay " + std::to_string(delay));
-      EXPECT_TRUE(run.stable) << "excursion " << run.peak_to_peak_m << " m, energy out " << run.max_energy_out_j << " J";
+      EXPECT_TRUE(run.stable) << "excursion " << run.peak_to_peak_m << " m, energy out " << run.max_energy_out_j
+                              << " J";
       EXPECT_LE(run.max_force_n, rig.spec.max_force);
       EXPECT_LT(run.max_energy_out_j, 1e-3);
       EXPECT_LT(run.peak_to_peak_m, 4 * rig.spec.resolution);

@@ -196,7 +196,8 @@ TEST(ElasticSurface, SemiSphereDentsInwardAndItsMeshFacesOutward) {
   for (int i = 0; i < n.cols(); ++i) flux += n.col(i).dot(x.col(i));
   EXPECT_GT(flux, 0);
   Touch t;
-  for (int k = 1; k <= 400; ++k) t = dome.touch(1e-3, Eigen::Vector3d(0, 0, 0.05 - 0.005 * std::min(1.0, k / 200.0)), false);
+  for (int k = 1; k <= 400; ++k)
+    t = dome.touch(1e-3, Eigen::Vector3d(0, 0, 0.05 - 0.005 * std::min(1.0, k / 200.0)), false);
   EXPECT_TRUE(t.in_contact);
   EXPECT_GT(t.force.z(), 0);
   EXPECT_TRUE(dome.state().x.allFinite());

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <complex>
 
+#include <gtest/gtest.h>
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseCholesky>
-#include <gtest/gtest.h>
 
 #include "models/massspring/simulator.h"
 
@@ -259,7 +259,8 @@ TEST(MassspringAccuracy, SpectrumBoundIsAboveTheTrueHighestFrequency) {
       const Eigen::Matrix3Xd x = l.rest + stretch * 0.01 * Eigen::Matrix3Xd::Random(3, l.size());
       const Eigen::MatrixXd M = Eigen::MatrixXd(implicit_matrix(l, {}, masses, slot, x, 0.0));
       const Eigen::MatrixXd K = (Eigen::MatrixXd(implicit_matrix(l, springs, masses, slot, x, 2.0)) -
-                                 2 * Eigen::MatrixXd(implicit_matrix(l, springs, masses, slot, x, 1.0)) + M) / 2;
+                                 2 * Eigen::MatrixXd(implicit_matrix(l, springs, masses, slot, x, 1.0)) + M) /
+                                2;
       const Eigen::VectorXd r = M.diagonal().cwiseInverse().cwiseSqrt();
       const Eigen::MatrixXd A = r.asDiagonal() * K * r.asDiagonal();
       const double truth = std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(A).eigenvalues().maxCoeff());
@@ -302,7 +303,8 @@ TEST(MassspringAccuracy, ImplicitMatrixIsTheForceJacobian) {
   Lattice l = make_box(3, 2, 2, 0.01, mat);
   // Every spring stretched (compressed ones drop their geometric term).
   Eigen::Matrix3Xd x = 1.05 * l.rest, v = Eigen::Matrix3Xd::Zero(3, l.size());
-  for (int i = 0; i < l.size(); ++i) x.col(i) += 1e-4 * Eigen::Vector3d(std::sin(2 * i), std::cos(5 * i), std::sin(i + 1));
+  for (int i = 0; i < l.size(); ++i)
+    x.col(i) += 1e-4 * Eigen::Vector3d(std::sin(2 * i), std::cos(5 * i), std::sin(i + 1));
   std::vector<int> masses, slot, springs;
   for (int i = 0; i < l.size(); ++i) masses.push_back(i), slot.push_back(i);
   for (int si = 0; si < int(l.springs.size()); ++si) springs.push_back(si);

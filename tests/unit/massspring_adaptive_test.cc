@@ -30,8 +30,8 @@ Scene scene(double drag = 0.002) {
 State run(Simulator& sim, int contact, int press, int release, int* max_simulated = nullptr) {
   State s = rest_state(sim.lattice());
   for (int k = 0; k < press + release; ++k) {
-    const StepInfo info = sim.step(s, k < press ? std::vector<PointForce>{{contact, Eigen::Vector3d(0, 0, -0.3)}}
-                                                : std::vector<PointForce>{});
+    const StepInfo info = sim.step(
+        s, k < press ? std::vector<PointForce>{{contact, Eigen::Vector3d(0, 0, -0.3)}} : std::vector<PointForce>{});
     if (max_simulated) *max_simulated = std::max(*max_simulated, info.simulated);
   }
   return s;

@@ -22,7 +22,8 @@ Lattice standing_box(const Material& m) {
 int top_centre(const Lattice& l) {
   int best = 0;
   for (int i = 0; i < l.size(); ++i)
-    if ((l.rest.col(i) - Eigen::Vector3d(0.015, 0.015, 0.03)).norm() < (l.rest.col(best) - Eigen::Vector3d(0.015, 0.015, 0.03)).norm())
+    if ((l.rest.col(i) - Eigen::Vector3d(0.015, 0.015, 0.03)).norm() <
+        (l.rest.col(best) - Eigen::Vector3d(0.015, 0.015, 0.03)).norm())
       best = i;
   return best;
 }
@@ -128,7 +129,7 @@ TEST(MassspringHardCases, VideoRateStep) {
     State s = rest_state(l);
     run(sim, s, 90, press, 1.0);
     EXPECT_LT(s.x(2, top_centre(l)), 0.03 - 1e-3);  // pressed in
-    EXPECT_GT(s.x(2, top_centre(l)), 0.0);           // not through the floor
+    EXPECT_GT(s.x(2, top_centre(l)), 0.0);          // not through the floor
   }
 }
 
@@ -277,7 +278,7 @@ TEST(MassspringHardCases, MillionUndampedSymplecticStepsDoNotDrift) {
     if (k >= n - n / 10) lo_last = std::min(lo_last, e), hi_last = std::max(hi_last, e);
   }
   const double w_h = sim.spectrum().omega_max * o.dt;
-  EXPECT_LT(hi_last - lo_last, w_h * e0);            // a bounded band...
+  EXPECT_LT(hi_last - lo_last, w_h * e0);                                // a bounded band...
   EXPECT_NEAR(lo_last, lo_first, 0.02 * (hi_first - lo_first) + 1e-15);  // ...that stays put
   EXPECT_NEAR(hi_last, hi_first, 0.02 * (hi_first - lo_first) + 1e-15);
 }

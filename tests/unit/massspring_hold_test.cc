@@ -35,7 +35,7 @@ TEST(MassspringHold, HeldMassStaysAndPassesTheSeriesSpringForce) {
       sim.hold(2, true);
       EXPECT_TRUE(sim.held(2));
       for (int k = 0; k < 3000; ++k) sim.step(s, {});
-      EXPECT_EQ(s.x(0, 2), 0.02 + d);       // exactly where it was put
+      EXPECT_EQ(s.x(0, 2), 0.02 + d);              // exactly where it was put
       EXPECT_NEAR(s.x(0, 1), 0.01 + d / 2, 1e-7);  // the free mass settles midway
       // Two springs in series: k/2 on the whole pull, back toward the anchor.
       EXPECT_NEAR(sim.spring_force(2, s).x(), -25 * d, 1e-5);

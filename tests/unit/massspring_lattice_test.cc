@@ -85,7 +85,8 @@ std::string sphere_obj(double r, int rings, int segs) {
   for (int i = 1; i < rings; ++i)
     for (int j = 0; j < segs; ++j) {
       const double th = M_PI * i / rings, ph = 2 * M_PI * j / segs;
-      o << "v " << r * std::sin(th) * std::cos(ph) << " " << r * std::sin(th) * std::sin(ph) << " " << r * std::cos(th) << "\n";
+      o << "v " << r * std::sin(th) * std::cos(ph) << " " << r * std::sin(th) * std::sin(ph) << " " << r * std::cos(th)
+        << "\n";
     }
   o << "v 0 0 " << -r << "\n";
   const int south = 2 + (rings - 1) * segs;
@@ -132,15 +133,19 @@ TEST_F(MeshFiles, DuplicateVerticesAreWelded) {
 }
 
 TEST_F(MeshFiles, ErrorsNameTheFileAndLine) {
-  EXPECT_NE(throws([&] { read_obj(write("a.obj", "v 0 0 0\nv 1 0 0\nv 0 1\n")); }).find("a.obj:3: a vertex needs three numbers"),
+  EXPECT_NE(throws([&] {
+              read_obj(write("a.obj", "v 0 0 0\nv 1 0 0\nv 0 1\n"));
+            }).find("a.obj:3: a vertex needs three numbers"),
             std::string::npos);
-  EXPECT_NE(throws([&] { read_obj(write("b.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n")); }).find("b.obj:4: vertex index 7"),
-            std::string::npos);
+  EXPECT_NE(
+      throws([&] { read_obj(write("b.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n")); }).find("b.obj:4: vertex index 7"),
+      std::string::npos);
   EXPECT_NE(throws([&] { read_obj(write("c.obj", "v 0 0 0\nf 1 x 2\n")); }).find("c.obj:2: 'x'"), std::string::npos);
   EXPECT_NE(throws([&] { read_obj((dir / "missing.obj").string()); }).find("cannot open"), std::string::npos);
   // Found by fuzzing: a coordinate of 9e13 m made weld's grid cell overflow a long.
-  EXPECT_NE(throws([&] { read_obj(write("far.obj", "v 0 0 0\nv 0 0 88888888888888\nv 0 1 0\nf 1 2 3\n")); })
-                .find("far.obj:2: vertex coordinate beyond +-1e6 m"),
+  EXPECT_NE(throws([&] {
+              read_obj(write("far.obj", "v 0 0 0\nv 0 0 88888888888888\nv 0 1 0\nf 1 2 3\n"));
+            }).find("far.obj:2: vertex coordinate beyond +-1e6 m"),
             std::string::npos);
   TriangleMesh far = read_obj(write("ok.obj", "v 0 0 0\nv 0 0 1e6\nv 0 1 0\nf 1 2 3\n"));
   EXPECT_NE(throws([&] { weld(far, 1e-12); }).find("too large for a tolerance"), std::string::npos);

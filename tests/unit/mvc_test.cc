@@ -42,7 +42,8 @@ TEST(MeanValueCoordinates, NearFacePointsKeepLinearPrecision) {
   std::vector<Eigen::Vector3d> pts;
   for (double d = 1e-12; d <= 1e-3; d *= 10)
     for (const double side : {-1.0, 1.0})
-      for (const Eigen::Vector2d xy : {Eigen::Vector2d(0.37, 0.61), Eigen::Vector2d(0.5, 0.5), Eigen::Vector2d(0.03, 0.2)})
+      for (const Eigen::Vector2d xy :
+           {Eigen::Vector2d(0.37, 0.61), Eigen::Vector2d(0.5, 0.5), Eigen::Vector2d(0.03, 0.2)})
         pts.emplace_back(xy.x(), xy.y(), side * d);
   Eigen::Matrix3Xd p(3, pts.size());
   for (std::size_t i = 0; i < pts.size(); ++i) p.col(i) = pts[i];
@@ -101,7 +102,7 @@ TEST(MeanValueCoordinates, MovedColumnsAgreeWithTheFullMap) {
   const Eigen::Matrix3Xd full = apply(w, c.x + u);
   EXPECT_LT((apply_moved(cols, rest, u) - full).cwiseAbs().maxCoeff(), 1e-8);
   const Eigen::Matrix3Xd skipped = apply_moved(cols, rest, u, 1e-5);
-  EXPECT_GT((skipped - full).cwiseAbs().maxCoeff(), 0);  // the micrometre column was skipped
+  EXPECT_GT((skipped - full).cwiseAbs().maxCoeff(), 0);     // the micrometre column was skipped
   EXPECT_LT((skipped - full).cwiseAbs().maxCoeff(), 1e-6);  // at most the skipped micrometre
   EXPECT_THROW(apply_moved(cols, rest, u.leftCols(7)), std::invalid_argument);
 }
@@ -147,7 +148,8 @@ TEST(MeanValueCoordinates, BadInputIsRefused) {
   std::vector<Eigen::Vector3i> bad = c.t;
   bad[3] = {0, 1, 8};
   EXPECT_THROW(mean_value_weights(c.x, bad, probe_points()), std::invalid_argument);
-  EXPECT_THROW(apply(mean_value_weights(c.x, c.t, probe_points()), Eigen::Matrix3Xd::Zero(3, 7)), std::invalid_argument);
+  EXPECT_THROW(apply(mean_value_weights(c.x, c.t, probe_points()), Eigen::Matrix3Xd::Zero(3, 7)),
+               std::invalid_argument);
 }
 
 }  // namespace

@@ -18,7 +18,9 @@ void square(Canvas& canvas, double size, double z, const cv::Scalar& colour, dou
   canvas.mesh(v, {0, 1, 2, 0, 2, 3}, colour);
 }
 
-cv::Vec3b at(const Canvas& c, const Eigen::Vector2d& p) { return c.image().at<cv::Vec3b>(int(std::lround(p.y())), int(std::lround(p.x()))); }
+cv::Vec3b at(const Canvas& c, const Eigen::Vector2d& p) {
+  return c.image().at<cv::Vec3b>(int(std::lround(p.y())), int(std::lround(p.x())));
+}
 
 TEST(Render, SquareOnTheMarkerCoversItsProjectedCorners) {
   const models::vision::Intrinsics k = models::vision::synthetic_intrinsics(640, 480);
@@ -29,7 +31,8 @@ TEST(Render, SquareOnTheMarkerCoversItsProjectedCorners) {
   const Eigen::Vector2d lo = canvas.project({-0.02, 0.02, 0}), hi = canvas.project({0.02, -0.02, 0});
   EXPECT_NEAR(hi.x() - lo.x(), 600 * 0.04 / 0.35, 1e-9);
   EXPECT_EQ(at(canvas, canvas.project({0, 0, 0})), cv::Vec3b(0, 0, 200));  // facing: full colour
-  for (const auto& [dx, dy] : {std::pair{1.5, 1.5}, std::pair{-1.5, 1.5}, std::pair{1.5, -1.5}, std::pair{-1.5, -1.5}}) {
+  for (const auto& [dx, dy] :
+       {std::pair{1.5, 1.5}, std::pair{-1.5, 1.5}, std::pair{1.5, -1.5}, std::pair{-1.5, -1.5}}) {
     // 1.5 px inside each edge is drawn, 1.5 px outside is not.
     const Eigen::Vector2d inside(dx > 0 ? lo.x() + dx : hi.x() + dx, dy > 0 ? lo.y() + dy : hi.y() + dy);
     const Eigen::Vector2d outside(dx > 0 ? lo.x() - dx : hi.x() - dx, dy > 0 ? lo.y() - dy : hi.y() - dy);

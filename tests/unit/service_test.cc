@@ -44,12 +44,12 @@ TEST(Options, ParsesAndDefaultsTheStep) {
 }
 
 TEST(Options, RefusesMissingAndMalformedValues) {
-  for (std::vector<std::string> args : std::vector<std::vector<std::string>>{
-           {"svc", "--rate", "100"},
-           {"svc", "--name", "a"},
-           {"svc", "--name", "a", "--rate", "fast"},
-           {"svc", "--name", "a", "--rate", "10", "--bogus", "1"},
-           {"svc", "--name", "a", "--rate"}}) {
+  for (std::vector<std::string> args :
+       std::vector<std::vector<std::string>>{{"svc", "--rate", "100"},
+                                             {"svc", "--name", "a"},
+                                             {"svc", "--name", "a", "--rate", "fast"},
+                                             {"svc", "--name", "a", "--rate", "10", "--bogus", "1"},
+                                             {"svc", "--name", "a", "--rate"}}) {
     auto v = argv_of(args);
     EXPECT_THROW(parse_options(int(v.size()), v.data()), std::invalid_argument) << args.back();
   }
@@ -83,7 +83,8 @@ TEST(Service, FinishEndsARealtimeRunAfterTheCurrentStep) {
   int steps = 0;
   EXPECT_EQ(svc.run([&](const Tick&) {
     if (++steps == 3) svc.finish();
-  }), 0);
+  }),
+            0);
   EXPECT_EQ(steps, 3);
 }
 
@@ -146,7 +147,9 @@ TEST(Service, StatusSaysStartingThenRunningThenStopping) {
   std::vector<std::string> states;
   std::vector<double> rates;
   auto collect = [&] {
-    status.take([&](const ServiceStatus& s) { states.push_back(s.state().to_string()), rates.push_back(s.rate_achieved_hz()); });
+    status.take([&](const ServiceStatus& s) {
+      states.push_back(s.state().to_string()), rates.push_back(s.rate_achieved_hz());
+    });
   };
   ASSERT_TRUE(status.wait(std::chrono::seconds(5)));
   collect();

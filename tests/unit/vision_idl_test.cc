@@ -40,8 +40,8 @@ TEST(VisionIdl, CameraFrameCopiesPixelsOfARegionWithoutItsPadding) {
   ASSERT_EQ(f.width(), 8u);
   ASSERT_EQ(f.height(), 4u);
   ASSERT_EQ(f.data().size(), 8u * 4u * 3u);
-  EXPECT_EQ(f.data()[0], 2);                // row 2 of the big image
-  EXPECT_EQ(f.data()[1], 5);                // column 5
+  EXPECT_EQ(f.data()[0], 2);                  // row 2 of the big image
+  EXPECT_EQ(f.data()[1], 5);                  // column 5
   EXPECT_EQ(f.data()[3 * 8 * 3 + 3 * 7], 5);  // last row starts at row 5
   EXPECT_EQ(f.data()[3 * 8 * 3 + 3 * 7 + 1], 12);
   EXPECT_DOUBLE_EQ(f.distortion()[0], -0.1);
