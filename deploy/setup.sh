@@ -7,13 +7,14 @@ set -euo pipefail
 # jq: the tests read bench reports with it.
 # clang, libclang-rt-14-dev: the sanitizer build and libFuzzer (deploy/fuzz.sh).
 # openssl: hcosim security init; tshark: the wire test of DDS Security.
+# clang-format-14: deploy/format.sh (.ci/run checks the formatting).
 packages=(
   build-essential cmake ninja-build ccache pkg-config
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
   libeigen3-dev libopencv-dev libopencv-contrib-dev libapriltag-dev
   libmujoco-dev libqhull-dev libyaml-cpp-dev googletest libgtest-dev libbenchmark-dev
   cyclonedds-dev cyclonedds-tools jq clang libclang-rt-14-dev
-  openssl tshark
+  openssl tshark clang-format-14
 )
 
 missing=()
