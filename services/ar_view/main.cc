@@ -16,8 +16,8 @@
 #include "adapters/render/ar_idl.h"
 #include "adapters/vision/media.h"
 #include "adapters/vision/vision_idl.h"
-#include "models/render/plot.h"
 #include "models/rigid/body.h"
+#include "services/report/plot.h"
 #include "services/runtime/service.h"
 
 using namespace hcosim;
@@ -80,21 +80,21 @@ std::string seconds(double t) { return cv::format("%05.1fs", t); }
 
 void write_plots(const fs::path& dir, const std::map<std::string, Trace>& traces) {
   fs::create_directories(dir);
-  models::render::Panel all_force{"force on the stylus (N)", {}}, all_depth{"penetration (mm)", {}};
+  services::report::Panel all_force{"force on the stylus (N)", {}}, all_depth{"penetration (mm)", {}};
   for (const auto& [name, tr] : traces) {
     adapters::vision::write_image(
         (dir / (name + ".png")).string(),
-        models::render::plot_series(name + ": force and penetration against simulated time", "simulated time (s)",
-                                    {{"force on the stylus (N)", {{name, tr.t, tr.force}}},
-                                     {"penetration (mm)", {{name, tr.t, tr.depth_mm}}}}));
+        services::report::plot_series(name + ": force and penetration against simulated time", "simulated time (s)",
+                                      {{"force on the stylus (N)", {{name, tr.t, tr.force}}},
+                                       {"penetration (mm)", {{name, tr.t, tr.depth_mm}}}}));
     all_force.series.push_back({name, tr.t, tr.force});
     all_depth.series.push_back({name, tr.t, tr.depth_mm});
   }
   if (!traces.empty())
     adapters::vision::write_image(
         (dir / "all.png").string(),
-        models::render::plot_series("every object: force and penetration against simulated time", "simulated time (s)",
-                                    {all_force, all_depth}));
+        services::report::plot_series("every object: force and penetration against simulated time",
+                                      "simulated time (s)", {all_force, all_depth}));
 }
 
 int run(int argc, char** argv) {

@@ -15,9 +15,9 @@
 #include <map>
 #include <sstream>
 
-#include "models/massspring/mujoco_lattice.h"
 #include "models/massspring/simulator.h"
 #include "services/bench/bench.h"
+#include "services/bench/mujoco_lattice.h"
 
 namespace hcosim::services::bench {
 namespace {
@@ -92,7 +92,7 @@ Trace run_ours(const Scene& sc, const ms::Options& o) {
 }
 
 Trace run_mujoco(const Scene& sc, double dt, const char* integrator) {
-  ms::MujocoLattice mj(sc.lattice, dt, integrator);
+  MujocoLattice mj(sc.lattice, dt, integrator);
   const std::vector<ms::PointForce> press{{sc.contact, sc.force}}, none;
   Trace t = timeline(
       dt, [&](bool loaded) { mj.step(loaded ? press : none); }, [&] { return mj.positions(); });
@@ -218,7 +218,7 @@ std::vector<Row> scene_rows(const Scene& sc, const Context& c) {
     add_row(ms::name(cf.integrator), cf.dt, cf.threshold, measure([&] { return run_ours(sc, o); }, reps));
   }
   // MuJoCo on the same lattice, where version 2.2.2 can hold it.
-  const double bytes = ms::MujocoLattice::data_bytes(sc.lattice);
+  const double bytes = MujocoLattice::data_bytes(sc.lattice);
   const std::size_t first_mujoco = rows.size();
   if (bytes > 1.9e9) {
     progress(sc.name + ": skip mujoco: its dense tendon Jacobian needs " + fmt(bytes / 1e9) +

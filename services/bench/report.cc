@@ -19,8 +19,8 @@
 #include <opencv2/core/version.hpp>
 
 #include "adapters/vision/media.h"
-#include "models/render/plot.h"
 #include "services/bench/bench.h"
+#include "services/report/plot.h"
 
 namespace fs = std::filesystem;
 
@@ -135,11 +135,11 @@ std::vector<Figure> draw_plots(const Suite& s, const std::vector<Row>& rows, con
   std::vector<Figure> out;
   for (const Plot& p : s.plots) {
     // group -> series label -> points
-    std::map<std::string, std::map<std::string, models::render::Series>> groups;
+    std::map<std::string, std::map<std::string, report::Series>> groups;
     for (const Row& r : rows) {
       const std::optional<double> x = number(r, p.x), y = number(r, p.y);
       if (r.name != p.row || !x || !y) continue;
-      models::render::Series& series = groups[label(r, p.group)][label(r, p.series)];
+      report::Series& series = groups[label(r, p.group)][label(r, p.series)];
       series.label = label(r, p.series);
       const Value* b = param(r, p.baseline.first);
       series.baseline = b && text(*b) == p.baseline.second;
@@ -147,14 +147,14 @@ std::vector<Figure> draw_plots(const Suite& s, const std::vector<Row>& rows, con
       series.y.push_back(*y);
     }
     for (const auto& [group, by_label] : groups) {
-      std::vector<models::render::Series> series;
+      std::vector<report::Series> series;
       for (const auto& [name, points] : by_label) series.push_back(points);
       const std::string stem = std::string(s.name) + "_" + p.row + "_" + (group.empty() ? p.y : file_safe(group));
       const fs::path file = dir / (stem + ".png");
       // The axes name the quantities; the title only says which rows.
       const std::string title = std::string(s.name) + " " + p.row + (group.empty() ? "" : ", " + group);
-      adapters::vision::write_image(
-          file.string(), models::render::plot_scatter(title, p.x_label, p.y_label, series, {p.log_x, p.log_y}));
+      adapters::vision::write_image(file.string(),
+                                    report::plot_scatter(title, p.x_label, p.y_label, series, {p.log_x, p.log_y}));
       std::cout << "wrote " << file.string() << "\n";
       out.push_back({p.row, file, title + ": " + p.y_label + " against " + p.x_label});
     }

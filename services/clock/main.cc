@@ -52,7 +52,7 @@ int run_clock(Options options) {
       if (!endpoint_of.count(f) || !ticks.reaches(endpoint_of.at(f))) out.insert(f);
     return out;
   };
-  const std::int64_t t0 = mono_ns();
+  const std::int64_t join_start = mono_ns();
   while (!unheard().empty() || done.matched() < int(n)) {
     if (stop_requested()) return 0;
     status.take([&](const ServiceStatus& s) {
@@ -63,7 +63,7 @@ int run_clock(Options options) {
       else
         starting.erase(name);
     });
-    const double waited = (mono_ns() - t0) * 1e-9;
+    const double waited = (mono_ns() - join_start) * 1e-9;
     const double limit = starting.empty() ? kJoinTimeoutS : kStartTimeoutS;
     if (waited > limit) {
       const std::set<std::string> deaf = unheard();

@@ -183,7 +183,10 @@ int run(int argc, char** argv) {
     if (name.empty() || name.size() > 31) o.fail("name", "each object needs a name of 1 to 31 characters");
     for (const Item& it : items)
       if (it.name == name) o.fail("name", "two objects are named '" + name + "'");
-    items.push_back({name, make_object(o, name, servo_dt, svc.options().out + "/cache")});
+    Item item;
+    item.name = name;
+    item.model = make_object(o, name, servo_dt, svc.options().out + "/cache");
+    items.push_back(std::move(item));
   }
   if (items.empty()) p.fail("objects", "hcosim_deformable: params.objects lists no object; docs/deformable.md");
 

@@ -238,12 +238,12 @@ Deployment load_deployment(const std::string& path) {
     if (dir.empty()) throw config_error(path, n["dir"], "'dir' must name a folder");
     if (dir.is_relative()) dir = fs::path(path).parent_path() / dir;
     d.security = dir.lexically_normal().string();
-    d.security_where = config_where(path, n);
+    d.security_where = adapters::config_where(path, n);
   }
   if (auto n = root["scene"]) d.scene = parse_scene(path, n);
   if (auto n = root["services"]) {
     if (!n.IsSequence()) throw config_error(path, n, "'services' must be a list");
-    d.services_where = config_where(path, n);
+    d.services_where = adapters::config_where(path, n);
     std::set<std::string> names;
     for (const auto& s : n) {
       ServiceSpec spec = parse_service(path, s);

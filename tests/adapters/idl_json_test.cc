@@ -1,0 +1,36 @@
+// Samples as JSON lines (hcosim echo, export): every field of a
+// HapticState, a CameraFrame's pixels summarised.
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "adapters/idl_json.h"
+
+namespace hcosim::adapters {
+namespace {
+
+TEST(IdlJson, HapticStateHasEveryField) {
+  HapticState s;
+  s.device("omni");
+  s.seq(42);
+  s.position().z(-0.25);
+  s.orientation().w(1.0);
+  const std::string j = to_json(s);
+  EXPECT_NE(j.find(R"("device":"omni")"), std::string::npos) << j;
+  EXPECT_NE(j.find(R"("seq":42)"), std::string::npos) << j;
+  EXPECT_NE(j.find(R"("position":{"x":0,"y":0,"z":-0.25})"), std::string::npos) << j;
+  for (const char* k : {"stamp", "velocity", "orientation", "buttons", "rendered_force", "device_time_s"})
+    EXPECT_NE(j.find(std::string("\"") + k + "\""), std::string::npos) << k;
+}
+
+TEST(IdlJson, CameraFrameSummarisesPixels) {
+  CameraFrame f;
+  f.data().assign(640 * 480 * 3, 7);
+  const std::string j = to_json(f);
+  EXPECT_NE(j.find(R"("data_bytes":921600)"), std::string::npos);
+  EXPECT_LT(j.size(), 1000u);
+}
+
+}  // namespace
+}  // namespace hcosim::adapters
