@@ -58,25 +58,29 @@ TEST(HybridSurfaces, SeedMeshesAreClosedAndFaceOutward) {
 
 // The seed's visual mesh has face centres a rounding error off its cage's
 // faces, where the closed mean value formula once lost 3 cm.
-TEST(HybridVisualMap, SeedVisualMeshFollowsAffineCageMotionsForEveryMap) {
-  for (VisualMap m : {VisualMap::mvc, VisualMap::mvc_sparse, VisualMap::trilinear}) {
-    SCOPED_TRACE(name(m));
-    HybridSpec s;
-    s.map = m;
-    const Hybrid h(s);
-    const models::massspring::Lattice& lat = h.behavior().lattice();
-    Eigen::Matrix3d a;
-    a << 1.1, 0.2, 0, -0.1, 0.9, 0.05, 0.02, 0, 1.05;
-    const Eigen::Vector3d b(0.01, -0.02, 0.03);
-    const std::vector<int>& cage = h.cage_masses();
-    Eigen::Matrix3Xd x(3, cage.size());
-    for (std::size_t i = 0; i < cage.size(); ++i) x.col(i) = a * lat.rest.col(cage[i]) + b;
-    const Eigen::Matrix3Xd expect = (a * h.visual_rest().vertices).colwise() + b;
-    // Truncation keeps 0.999 of each row: linear precision to about that;
-    // points within 1e-7 of the cage's size from a face take their projection's.
-    EXPECT_LT((apply(h.map(), x) - expect).cwiseAbs().maxCoeff(), m == VisualMap::mvc_sparse ? 2e-4 : 1e-7);
-  }
+class HybridVisualMap : public ::testing::TestWithParam<VisualMap> {};
+
+TEST_P(HybridVisualMap, SeedVisualMeshFollowsAffineCageMotions) {
+  const VisualMap m = GetParam();
+  HybridSpec s;
+  s.map = m;
+  const Hybrid h(s);
+  const models::massspring::Lattice& lat = h.behavior().lattice();
+  Eigen::Matrix3d a;
+  a << 1.1, 0.2, 0, -0.1, 0.9, 0.05, 0.02, 0, 1.05;
+  const Eigen::Vector3d b(0.01, -0.02, 0.03);
+  const std::vector<int>& cage = h.cage_masses();
+  Eigen::Matrix3Xd x(3, cage.size());
+  for (std::size_t i = 0; i < cage.size(); ++i) x.col(i) = a * lat.rest.col(cage[i]) + b;
+  const Eigen::Matrix3Xd expect = (a * h.visual_rest().vertices).colwise() + b;
+  // Truncation keeps 0.999 of each row: linear precision to about that;
+  // points within 1e-7 of the cage's size from a face take their projection's.
+  EXPECT_LT((apply(h.map(), x) - expect).cwiseAbs().maxCoeff(), m == VisualMap::mvc_sparse ? 2e-4 : 1e-7);
 }
+
+INSTANTIATE_TEST_SUITE_P(, HybridVisualMap,
+                         ::testing::Values(VisualMap::mvc, VisualMap::mvc_sparse, VisualMap::trilinear),
+                         [](const ::testing::TestParamInfo<VisualMap>& i) { return std::string(name(i.param)); });
 
 TEST(Hybrid, ReleaseReturnsToTheRestShape) {
   HybridSpec s;

@@ -1,6 +1,7 @@
-// Every deformable object's reach (object.h): no contact begins outside it.
+// Every kind of deformable object's reach (object.h): no contact begins
+// outside it, and one begins just inside.
 #include <memory>
-#include <vector>
+#include <string>
 
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
@@ -12,56 +13,66 @@
 namespace hcosim::models::deformable {
 namespace {
 
-// No object begins a contact outside its reach (what a free-space answer
-// rests on, docs/topics.md): a HIP brought to each point of a grid around
-// the reach box, from far away, 0.5 mm outside it, touches nothing; the
-// same approach just inside the top face touches.
-TEST(DeformableReach, NoContactBeginsOutsideTheReach) {
-  std::vector<std::unique_ptr<Object>> objects;
-  const double dt = 1e-3;
+constexpr double kDt = 1e-3;  // s, the haptic step
+
+// Each kind of deformable object, small enough for a unit test.
+std::unique_ptr<Object> make(const std::string& kind) {
+  SurfaceSpec surface;
+  surface.resolution = 9;
+  surface.options.dt = kDt;
+  if (kind == "sheet") return std::make_unique<ElasticSurface>(surface);
+  if (kind == "semisphere") {
+    surface.shape = Shape::semisphere;
+    surface.size = 0.03;
+    surface.resolution = 6;
+    return std::make_unique<ElasticSurface>(surface);
+  }
   HybridSpec h;
   h.elements = 4;
   h.visual_subdivisions = 4;
-  objects.push_back(std::make_unique<Hybrid>(h));
-  SurfaceSpec sheet;
-  sheet.resolution = 9;
-  sheet.options.dt = dt;
-  objects.push_back(std::make_unique<ElasticSurface>(sheet));
-  SurfaceSpec dome = sheet;
-  dome.shape = Shape::semisphere;
-  dome.size = 0.03;
-  dome.resolution = 6;
-  objects.push_back(std::make_unique<ElasticSurface>(dome));
-  for (auto& o : objects) {
-    const Eigen::AlignedBox3d r = o->reach();
-    ASSERT_FALSE(r.isEmpty());
-    for (int i = 0; i <= 4; ++i)
-      for (int j = 0; j <= 4; ++j)
-        for (int k = 0; k <= 4; ++k) {
-          const Eigen::Vector3d f(i / 4.0, j / 4.0, k / 4.0);
-          Eigen::Vector3d p = r.min() + f.cwiseProduct(r.sizes());
-          // Onto the box's surface, then 0.5 mm out along the nearest face.
-          int axis = 0, side = 0;
-          double best = 1e9;
-          for (int a = 0; a < 3; ++a)
-            for (int sgn = 0; sgn < 2; ++sgn) {
-              const double d = sgn ? r.max()[a] - p[a] : p[a] - r.min()[a];
-              if (d < best) best = d, axis = a, side = sgn;
-            }
-          p[axis] = side ? r.max()[axis] + 5e-4 : r.min()[axis] - 5e-4;
-          EXPECT_FALSE(o->touch(dt, p, false).in_contact) << "contact at " << p.transpose() << " outside the reach";
-        }
-  }
-  // Just inside each reach, from above: a contact.
-  for (auto& o : objects) {
-    const Eigen::AlignedBox3d r = o->reach();
-    const Eigen::Vector3d c = r.center();
-    const Eigen::Vector3d top(c.x() + 1e-4, c.y() + 1e-4, r.max().z() - 5e-4);
-    Touch t;
-    for (int n = 0; n < 3; ++n) t = o->touch(dt, top, false);
-    EXPECT_TRUE(t.in_contact) << "no contact just inside the reach at " << top.transpose();
-  }
+  return std::make_unique<Hybrid>(h);
 }
+
+class DeformableReach : public ::testing::TestWithParam<std::string> {};
+
+// No object begins a contact outside its reach (what a free-space answer
+// rests on, docs/topics.md): a HIP brought to each point of a grid around
+// the reach box, from far away, 0.5 mm outside it, touches nothing.
+TEST_P(DeformableReach, NoContactBeginsOutsideIt) {
+  const std::unique_ptr<Object> o = make(GetParam());
+  const Eigen::AlignedBox3d r = o->reach();
+  ASSERT_FALSE(r.isEmpty());
+  for (int i = 0; i <= 4; ++i)
+    for (int j = 0; j <= 4; ++j)
+      for (int k = 0; k <= 4; ++k) {
+        const Eigen::Vector3d f(i / 4.0, j / 4.0, k / 4.0);
+        Eigen::Vector3d p = r.min() + f.cwiseProduct(r.sizes());
+        // Onto the box's surface, then 0.5 mm out along the nearest face.
+        int axis = 0, side = 0;
+        double best = 1e9;
+        for (int a = 0; a < 3; ++a)
+          for (int sgn = 0; sgn < 2; ++sgn) {
+            const double d = sgn ? r.max()[a] - p[a] : p[a] - r.min()[a];
+            if (d < best) best = d, axis = a, side = sgn;
+          }
+        p[axis] = side ? r.max()[axis] + 5e-4 : r.min()[axis] - 5e-4;
+        EXPECT_FALSE(o->touch(kDt, p, false).in_contact) << "contact at " << p.transpose() << " outside the reach";
+      }
+}
+
+// The same approach just inside the reach's top face, from above, touches.
+TEST_P(DeformableReach, AContactBeginsJustInsideItsTop) {
+  const std::unique_ptr<Object> o = make(GetParam());
+  const Eigen::AlignedBox3d r = o->reach();
+  const Eigen::Vector3d c = r.center();
+  const Eigen::Vector3d top(c.x() + 1e-4, c.y() + 1e-4, r.max().z() - 5e-4);
+  Touch t;
+  for (int n = 0; n < 3; ++n) t = o->touch(kDt, top, false);
+  EXPECT_TRUE(t.in_contact) << "no contact just inside the reach at " << top.transpose();
+}
+
+INSTANTIATE_TEST_SUITE_P(, DeformableReach, ::testing::Values("hybrid", "sheet", "semisphere"),
+                         [](const ::testing::TestParamInfo<std::string>& i) { return i.param; });
 
 }  // namespace
 }  // namespace hcosim::models::deformable

@@ -10,14 +10,12 @@
 #include <Eigen/SparseCholesky>
 
 #include "models/massspring/simulator.h"
+#include "tests/support/integrators.h"
 
 namespace hcosim::models::massspring {
 namespace {
 
 using C = std::complex<double>;
-
-const Integrator kAll[] = {Integrator::symplectic_euler, Integrator::velocity_verlet, Integrator::rk4,
-                           Integrator::implicit_euler, Integrator::local_global};
 
 // One mass on a spring of rest length 1 m to an anchor, moving along x;
 // damped by the spring's damper b or by air friction `drag` (N s/m).
@@ -102,17 +100,17 @@ struct Case {
   double w, zeta, h;
 };
 
-TEST(MassspringAccuracy, OscillatorMatchesEachIntegratorsTheory) {
+class MassspringAccuracyPerIntegrator : public ::testing::TestWithParam<Integrator> {};
+
+TEST_P(MassspringAccuracyPerIntegrator, OscillatorMatchesItsTheory) {
+  const Integrator in = GetParam();
   for (const bool drag : {false, true})
     for (const Case cs : {Case{10, 0.0, 0.01}, Case{10, 0.05, 0.01}, Case{10, 0.3, 0.02}, Case{40, 0.1, 0.02}}) {
+      SCOPED_TRACE("w " + std::to_string(cs.w) + " zeta " + std::to_string(cs.zeta) + (drag ? " drag" : " damper"));
       const double c = 2 * cs.zeta * cs.w;
-      for (Integrator in : kAll) {
-        SCOPED_TRACE(std::string(name(in)) + " w " + std::to_string(cs.w) + " zeta " + std::to_string(cs.zeta) +
-                     (drag ? " drag" : " damper"));
-        const C zt = theory(in, cs.w, c, cs.h, drag), zm = measured(in, cs.w, c, cs.h, 300, drag);
-        EXPECT_NEAR(frequency(zm, cs.h), frequency(zt, cs.h), 1e-6 * cs.w);
-        EXPECT_NEAR(decay(zm, cs.h), decay(zt, cs.h), 1e-6 * cs.w);
-      }
+      const C zt = theory(in, cs.w, c, cs.h, drag), zm = measured(in, cs.w, c, cs.h, 300, drag);
+      EXPECT_NEAR(frequency(zm, cs.h), frequency(zt, cs.h), 1e-6 * cs.w);
+      EXPECT_NEAR(decay(zm, cs.h), decay(zt, cs.h), 1e-6 * cs.w);
     }
 }
 
@@ -158,7 +156,8 @@ TEST(MassspringAccuracy, ErrorsShrinkAtTheTheoreticalOrder) {
 
 // A vertical chain hanging from an anchor under gravity: spring s carries
 // the weight of the masses below it, so its stretch is that weight over k.
-TEST(MassspringAccuracy, HangingChainMatchesTheExactStaticDeflection) {
+TEST_P(MassspringAccuracyPerIntegrator, HangingChainMatchesTheExactStaticDeflection) {
+  const Integrator in = GetParam();
   const int n = 8;
   const double m = 0.01, k = 20, spacing = 0.05, g = 9.81;
   Lattice l;
@@ -170,21 +169,18 @@ TEST(MassspringAccuracy, HangingChainMatchesTheExactStaticDeflection) {
   for (int i = 0; i < n; ++i) l.springs.push_back({i, i + 1, spacing, k, 0.05});
   l.gravity << 0, 0, -g;
   l.drag = 0.05;  // settles in seconds
-  for (Integrator in : kAll) {
-    SCOPED_TRACE(name(in));
-    Options o;
-    o.integrator = in;
-    o.dt = 1e-3;
-    o.iterations = 20;
-    o.tolerance = 1e-12;
-    Simulator sim(l, o);
-    State s = rest_state(l);
-    for (int step = 0; step < 20000; ++step) sim.step(s, {});
-    double z = 0;
-    for (int i = 1; i <= n; ++i) {
-      z -= spacing + (n - i + 1) * m * g / k;
-      EXPECT_NEAR(s.x(2, i), z, 1e-9) << "mass " << i;
-    }
+  Options o;
+  o.integrator = in;
+  o.dt = 1e-3;
+  o.iterations = 20;
+  o.tolerance = 1e-12;
+  Simulator sim(l, o);
+  State s = rest_state(l);
+  for (int step = 0; step < 20000; ++step) sim.step(s, {});
+  double z = 0;
+  for (int i = 1; i <= n; ++i) {
+    z -= spacing + (n - i + 1) * m * g / k;
+    EXPECT_NEAR(s.x(2, i), z, 1e-9) << "mass " << i;
   }
 }
 
@@ -276,28 +272,29 @@ TEST(MassspringAccuracy, SpectrumBoundIsAboveTheTrueHighestFrequency) {
 
 // No external force: internal forces come in opposite pairs, so momentum
 // is kept to rounding by every integrator.
-TEST(MassspringAccuracy, MomentumIsConservedWithoutExternalForce) {
+TEST_P(MassspringAccuracyPerIntegrator, MomentumIsConservedWithoutExternalForce) {
+  const Integrator in = GetParam();
   Material mat;
   mat.b = 0.01;
   Lattice l = make_box(4, 3, 3, 0.01, mat);
   l.mass[5] = 0.01;  // unequal masses
   Eigen::Matrix3Xd v0 = Eigen::Matrix3Xd::Zero(3, l.size());
   for (int i = 0; i < l.size(); ++i) v0.col(i) << std::sin(i), std::cos(3 * i), 0.5 * std::sin(7 * i);
-  for (Integrator in : kAll) {
-    SCOPED_TRACE(name(in));
-    Options o;
-    o.integrator = in;
-    o.dt = 1e-3;
-    o.tolerance = 1e-14;  // implicit_euler conserves it to the CG residual
-    Simulator sim(l, o);
-    State s = rest_state(l);
-    s.v = 0.1 * v0;
-    const Eigen::Vector3d p0 = momentum(l, s.v);
-    for (int step = 0; step < 300; ++step) sim.step(s, {});
-    EXPECT_LT((momentum(l, s.v) - p0).norm(), 1e-12 * (1 + p0.norm()));
-    EXPECT_GT((s.x - l.rest).norm(), 1e-4);  // it did move
-  }
+  Options o;
+  o.integrator = in;
+  o.dt = 1e-3;
+  o.tolerance = 1e-14;  // implicit_euler conserves it to the CG residual
+  Simulator sim(l, o);
+  State s = rest_state(l);
+  s.v = 0.1 * v0;
+  const Eigen::Vector3d p0 = momentum(l, s.v);
+  for (int step = 0; step < 300; ++step) sim.step(s, {});
+  EXPECT_LT((momentum(l, s.v) - p0).norm(), 1e-12 * (1 + p0.norm()));
+  EXPECT_GT((s.x - l.rest).norm(), 1e-4);  // it did move
 }
+
+INSTANTIATE_TEST_SUITE_P(, MassspringAccuracyPerIntegrator, ::testing::ValuesIn(tests::kIntegrators),
+                         tests::integrator_name);
 
 // The implicit matrix's K and C are the derivatives of the forces.
 TEST(MassspringAccuracy, ImplicitMatrixIsTheForceJacobian) {

@@ -12,12 +12,10 @@
 #include <gtest/gtest.h>
 
 #include "models/massspring/simulator.h"
+#include "tests/support/integrators.h"
 
 namespace hcosim::models::massspring {
 namespace {
-
-const Integrator kAll[] = {Integrator::symplectic_euler, Integrator::velocity_verlet, Integrator::rk4,
-                           Integrator::implicit_euler, Integrator::local_global};
 
 // A 4 x 4 x 4 box standing on its anchored bottom face.
 Lattice standing_box(const Material& m) {
@@ -57,33 +55,33 @@ void run(Simulator& sim, State& s, int steps, const std::vector<PointForce>& loa
   }
 }
 
-TEST(MassspringHardCases, VeryStiffSpringsSubstepOrRefuseExplicitly) {
+class MassspringHardCasesPerIntegrator : public ::testing::TestWithParam<Integrator> {};
+
+TEST_P(MassspringHardCasesPerIntegrator, VeryStiffSpringsSubstepOrRefuseExplicitly) {
+  const Integrator in = GetParam();
   Material m;
   m.k = 1e6;  // omega_max ~ 1e5 rad/s: omega dt ~ 100 at dt = 1 ms
   m.b = 1;
   const Lattice l = standing_box(m);
-  for (Integrator in : kAll) {
-    SCOPED_TRACE(name(in));
-    Options o;
-    o.integrator = in;
-    o.dt = 1e-3;
-    o.on_unstable = OnUnstable::refuse;
-    if (is_explicit(in)) {
-      try {
-        Simulator refused(l, o);
-        FAIL() << "a step 100 times the stable one was accepted";
-      } catch (const std::invalid_argument& e) {
-        EXPECT_NE(std::string(e.what()).find("exceeds the stable step"), std::string::npos) << e.what();
-      }
-      o.on_unstable = OnUnstable::substep;
+  Options o;
+  o.integrator = in;
+  o.dt = 1e-3;
+  o.on_unstable = OnUnstable::refuse;
+  if (is_explicit(in)) {
+    try {
+      Simulator refused(l, o);
+      FAIL() << "a step 100 times the stable one was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("exceeds the stable step"), std::string::npos) << e.what();
     }
-    Simulator sim(l, o);
-    EXPECT_EQ(sim.substeps() > 1, is_explicit(in));
-    State s = rest_state(l);
-    s.x.col(top_centre(l)).z() += 0.005;  // a stretch of half a cell
-    const double e0 = energy(l, s.x, s.v).total();
-    run(sim, s, 50, {}, ceiling(sim, e0));
+    o.on_unstable = OnUnstable::substep;
   }
+  Simulator sim(l, o);
+  EXPECT_EQ(sim.substeps() > 1, is_explicit(in));
+  State s = rest_state(l);
+  s.x.col(top_centre(l)).z() += 0.005;  // a stretch of half a cell
+  const double e0 = energy(l, s.x, s.v).total();
+  run(sim, s, 50, {}, ceiling(sim, e0));
 }
 
 TEST(MassspringHardCases, TooManySubstepsAreRefusedWithTheReason) {
@@ -101,46 +99,43 @@ TEST(MassspringHardCases, TooManySubstepsAreRefusedWithTheReason) {
   }
 }
 
-TEST(MassspringHardCases, MassRatioTenThousand) {
+TEST_P(MassspringHardCasesPerIntegrator, MassRatioTenThousand) {
+  const Integrator in = GetParam();
   Material m;
   m.b = 0.01;
   Lattice l = standing_box(m);
   for (int i = 0; i < l.size(); i += 2) l.mass[i] *= 1e4;
-  for (Integrator in : kAll) {
-    SCOPED_TRACE(name(in));
-    Options o;
-    o.integrator = in;
-    o.dt = 1e-3;
-    Simulator sim(l, o);
-    State s = rest_state(l);
-    s.v.col(top_centre(l)) << 0.1, 0, -0.2;
-    const double e0 = energy(l, s.x, s.v).total();
-    run(sim, s, 300, {}, ceiling(sim, e0));
-  }
+  Options o;
+  o.integrator = in;
+  o.dt = 1e-3;
+  Simulator sim(l, o);
+  State s = rest_state(l);
+  s.v.col(top_centre(l)) << 0.1, 0, -0.2;
+  const double e0 = energy(l, s.x, s.v).total();
+  run(sim, s, 300, {}, ceiling(sim, e0));
 }
 
 // The video rate: implicit integrators take dt = 1/30 s in one step and
 // still settle under a load; explicit ones substep.
-TEST(MassspringHardCases, VideoRateStep) {
+TEST_P(MassspringHardCasesPerIntegrator, VideoRateStep) {
+  const Integrator in = GetParam();
   Material m;
   m.b = 0.05;
   const Lattice l = standing_box(m);
   const std::vector<PointForce> press{{top_centre(l), Eigen::Vector3d(0, 0, -0.5)}};
-  for (Integrator in : kAll) {
-    SCOPED_TRACE(name(in));
-    Options o;
-    o.integrator = in;
-    o.dt = 1.0 / 30;
-    Simulator sim(l, o);
-    EXPECT_EQ(sim.substeps() > 1, is_explicit(in));
-    State s = rest_state(l);
-    run(sim, s, 90, press, 1.0);
-    EXPECT_LT(s.x(2, top_centre(l)), 0.03 - 1e-3);  // pressed in
-    EXPECT_GT(s.x(2, top_centre(l)), 0.0);          // not through the floor
-  }
+  Options o;
+  o.integrator = in;
+  o.dt = 1.0 / 30;
+  Simulator sim(l, o);
+  EXPECT_EQ(sim.substeps() > 1, is_explicit(in));
+  State s = rest_state(l);
+  run(sim, s, 90, press, 1.0);
+  EXPECT_LT(s.x(2, top_centre(l)), 0.03 - 1e-3);  // pressed in
+  EXPECT_GT(s.x(2, top_centre(l)), 0.0);          // not through the floor
 }
 
-TEST(MassspringHardCases, ZeroLengthAndNearZeroSprings) {
+TEST_P(MassspringHardCasesPerIntegrator, ZeroLengthAndNearZeroSprings) {
+  const Integrator in = GetParam();
   // Two masses at the same point joined by a zero-length spring, one joined
   // to an anchor by a 1e-15 m spring: directions are undefined at rest.
   Lattice l;
@@ -149,24 +144,22 @@ TEST(MassspringHardCases, ZeroLengthAndNearZeroSprings) {
   l.mass.setConstant(4, 0.01);
   l.anchored = {1, 0, 0, 0};
   l.springs = {{0, 1, 0.0, 10, 0.1}, {1, 2, 0.0, 10, 0.1}, {2, 3, 1e-15, 10, 0.1}};
-  for (Integrator in : kAll) {
-    SCOPED_TRACE(name(in));
-    Options o;
-    o.integrator = in;
-    o.dt = 1e-3;
-    Simulator sim(l, o);
-    State s = rest_state(l);
-    run(sim, s, 100, {}, 1e-12);  // nothing moves: every spring is at rest
-    s.v.col(2) << 0.3, -0.1, 0.2;
-    const double e0 = energy(l, s.x, s.v).total();
-    run(sim, s, 3000, {}, ceiling(sim, e0));
-    EXPECT_LT(energy(l, s.x, s.v).total(), 0.5 * e0);  // the dampers worked
-  }
+  Options o;
+  o.integrator = in;
+  o.dt = 1e-3;
+  Simulator sim(l, o);
+  State s = rest_state(l);
+  run(sim, s, 100, {}, 1e-12);  // nothing moves: every spring is at rest
+  s.v.col(2) << 0.3, -0.1, 0.2;
+  const double e0 = energy(l, s.x, s.v).total();
+  run(sim, s, 3000, {}, ceiling(sim, e0));
+  EXPECT_LT(energy(l, s.x, s.v).total(), 0.5 * e0);  // the dampers worked
 }
 
 // Two vertices at the same place (as from an unwelded mesh), each with its
 // own springs, plus a spring between them.
-TEST(MassspringHardCases, DuplicateVertices) {
+TEST_P(MassspringHardCasesPerIntegrator, DuplicateVertices) {
+  const Integrator in = GetParam();
   Material m;
   m.b = 0.02;
   Lattice l = standing_box(m);
@@ -178,90 +171,81 @@ TEST(MassspringHardCases, DuplicateVertices) {
   l.anchored.push_back(0);
   l.springs.push_back({top, twin, 0.0, m.k, m.b});
   l.springs.push_back({twin, 0, (l.rest.col(twin) - l.rest.col(0)).norm(), m.k, m.b});
-  for (Integrator in : kAll) {
-    SCOPED_TRACE(name(in));
-    Options o;
-    o.integrator = in;
-    o.dt = 1e-3;
-    Simulator sim(l, o);
-    State s = rest_state(l);
-    run(sim, s, 300, {{twin, Eigen::Vector3d(0.2, 0, 0)}}, 1.0);
-    EXPECT_GT(s.x(0, top), l.rest(0, top));  // the pull reached its twin
-  }
+  Options o;
+  o.integrator = in;
+  o.dt = 1e-3;
+  Simulator sim(l, o);
+  State s = rest_state(l);
+  run(sim, s, 300, {{twin, Eigen::Vector3d(0.2, 0, 0)}}, 1.0);
+  EXPECT_GT(s.x(0, top), l.rest(0, top));  // the pull reached its twin
 }
 
-TEST(MassspringHardCases, CollapsedAndInvertedBox) {
+TEST_P(MassspringHardCasesPerIntegrator, CollapsedAndInvertedBox) {
+  const Integrator in = GetParam();
   Material m;
   m.b = 0.05;
   const Lattice l = make_box(4, 4, 4, 0.01, m);
   const Eigen::Vector3d centre(0.015, 0.015, 0.015);
-  for (Integrator in : kAll) {
-    SCOPED_TRACE(name(in));
-    Options o;
-    o.integrator = in;
-    o.dt = 1e-3;
-    Simulator sim(l, o);
-    // Collapsed to its centre point: every spring has zero length and
-    // falls back to its rest direction, so the box expands back.
-    State s = rest_state(l);
-    for (int i = 0; i < l.size(); ++i) s.x.col(i) = centre;
-    const double e0 = energy(l, s.x, s.v).total();
-    run(sim, s, 2000, {}, ceiling(sim, e0));
-    EXPECT_LT(energy(l, s.x, s.v).elastic, 0.01 * e0);
-    // Inverted (mirrored through its centre): spring lengths are those at
-    // rest, so a mass-spring box has no force to undo it and stays put.
-    s = rest_state(l);
-    for (int i = 0; i < l.size(); ++i) s.x.col(i) = 2 * centre - l.rest.col(i);
-    const Eigen::Matrix3Xd inverted = s.x;
-    run(sim, s, 100, {}, 1e-12);
-    EXPECT_LT((s.x - inverted).cwiseAbs().maxCoeff(), 1e-12);
-  }
+  Options o;
+  o.integrator = in;
+  o.dt = 1e-3;
+  Simulator sim(l, o);
+  // Collapsed to its centre point: every spring has zero length and
+  // falls back to its rest direction, so the box expands back.
+  State s = rest_state(l);
+  for (int i = 0; i < l.size(); ++i) s.x.col(i) = centre;
+  const double e0 = energy(l, s.x, s.v).total();
+  run(sim, s, 2000, {}, ceiling(sim, e0));
+  EXPECT_LT(energy(l, s.x, s.v).elastic, 0.01 * e0);
+  // Inverted (mirrored through its centre): spring lengths are those at
+  // rest, so a mass-spring box has no force to undo it and stays put.
+  s = rest_state(l);
+  for (int i = 0; i < l.size(); ++i) s.x.col(i) = 2 * centre - l.rest.col(i);
+  const Eigen::Matrix3Xd inverted = s.x;
+  run(sim, s, 100, {}, 1e-12);
+  EXPECT_LT((s.x - inverted).cwiseAbs().maxCoeff(), 1e-12);
 }
 
 // A spike 100 times the PHANToM Omni's 3.3 N peak for one step, then
 // release: the box rings and settles, bounded by the work the spike did.
-TEST(MassspringHardCases, ForceSpikeHundredTimesTheDeviceMaximum) {
+TEST_P(MassspringHardCasesPerIntegrator, ForceSpikeHundredTimesTheDeviceMaximum) {
+  const Integrator in = GetParam();
   Material m;
   m.b = 0.05;
   const Lattice l = standing_box(m);
   const int top = top_centre(l);
-  for (Integrator in : kAll) {
-    SCOPED_TRACE(name(in));
-    Options o;
-    o.integrator = in;
-    o.dt = 1e-3;
-    Simulator sim(l, o);
-    State s = rest_state(l);
-    sim.step(s, {{top, Eigen::Vector3d(0, 0, -330)}});
-    // Impulse 0.33 N s on 1 g: the work is at most (F dt)^2 / 2m = 54 J.
-    const double e1 = energy(l, s.x, s.v).total();
-    ASSERT_LT(e1, 60);
-    run(sim, s, 3000, {}, ceiling(sim, e1));
-    EXPECT_LT(energy(l, s.x, s.v).total(), 0.01 * e1);
-  }
+  Options o;
+  o.integrator = in;
+  o.dt = 1e-3;
+  Simulator sim(l, o);
+  State s = rest_state(l);
+  sim.step(s, {{top, Eigen::Vector3d(0, 0, -330)}});
+  // Impulse 0.33 N s on 1 g: the work is at most (F dt)^2 / 2m = 54 J.
+  const double e1 = energy(l, s.x, s.v).total();
+  ASSERT_LT(e1, 60);
+  run(sim, s, 3000, {}, ceiling(sim, e1));
+  EXPECT_LT(energy(l, s.x, s.v).total(), 0.01 * e1);
 }
 
 // The contact jumps from one side of the box to the other between steps.
-TEST(MassspringHardCases, ContactTeleportsAcrossTheObject) {
+TEST_P(MassspringHardCasesPerIntegrator, ContactTeleportsAcrossTheObject) {
+  const Integrator in = GetParam();
   Material m;
   m.b = 0.05;
   const Lattice l = standing_box(m);
   const int a = l.size() - 1, b = l.size() - 16;  // opposite top corners
-  for (Integrator in : kAll) {
-    SCOPED_TRACE(name(in));
-    Options o;
-    o.integrator = in;
-    o.dt = 1e-3;
-    Simulator sim(l, o);
-    State s = rest_state(l);
-    for (int k = 0; k < 200; ++k) {
-      sim.step(s, {{k % 2 ? a : b, Eigen::Vector3d(0, 0, -2.0)}});
-      ASSERT_TRUE(s.x.allFinite());
-    }
-    EXPECT_LT(s.x(2, a), l.rest(2, a));
-    EXPECT_LT(s.x(2, b), l.rest(2, b));
-    EXPECT_LT(energy(l, s.x, s.v).total(), 1.0);
+  Options o;
+  o.integrator = in;
+  o.dt = 1e-3;
+  Simulator sim(l, o);
+  State s = rest_state(l);
+  for (int k = 0; k < 200; ++k) {
+    sim.step(s, {{k % 2 ? a : b, Eigen::Vector3d(0, 0, -2.0)}});
+    ASSERT_TRUE(s.x.allFinite());
   }
+  EXPECT_LT(s.x(2, a), l.rest(2, a));
+  EXPECT_LT(s.x(2, b), l.rest(2, b));
+  EXPECT_LT(energy(l, s.x, s.v).total(), 1.0);
 }
 
 // 10^6 undamped symplectic Euler steps: the energy oscillates within a band
@@ -292,37 +276,43 @@ TEST(MassspringHardCases, MillionUndampedSymplecticStepsDoNotDrift) {
 
 // Damping from none to 10 times critical on one oscillator: no integrator
 // gains energy, and past critical nothing overshoots the rest length.
-TEST(MassspringHardCases, DampingFromZeroToOverCritical) {
+TEST_P(MassspringHardCasesPerIntegrator, DampingFromZeroToOverCritical) {
+  const Integrator in = GetParam();
   for (double zeta : {0.0, 0.1, 1.0, 3.0, 10.0}) {
-    for (Integrator in : kAll) {
-      SCOPED_TRACE(std::string(name(in)) + " zeta " + std::to_string(zeta));
-      Lattice l;
-      l.rest.setZero(3, 2);
-      l.rest(0, 1) = 1;
-      const double w = 50, k = w * w * 0.01;
-      l.mass = Eigen::Vector2d(1, 0.01);
-      l.anchored = {1, 0};
-      l.springs = {{0, 1, 1.0, k, 2 * zeta * w * 0.01}};
-      Options o;
-      o.integrator = in;
-      o.dt = 1e-3;
-      Simulator sim(l, o);
-      State s = rest_state(l);
-      s.x(0, 1) = 1.2;
-      const double e0 = energy(l, s.x, s.v).total();
-      double min_x = 2;
-      for (int step = 0; step < 2000; ++step) {
-        sim.step(s, {});
-        const double e = energy(l, s.x, s.v).total();
-        ASSERT_TRUE(std::isfinite(e));
-        ASSERT_LE(e, ceiling(sim, e0)) << "step " << step;
-        min_x = std::min(min_x, s.x(0, 1));
-      }
-      if (zeta >= 1) EXPECT_GE(min_x, 1.0 - 1e-9) << "overshoot past critical damping";
-      if (zeta > 0) EXPECT_LT(energy(l, s.x, s.v).total(), 0.01 * e0);
+    SCOPED_TRACE("zeta " + std::to_string(zeta));
+    Lattice l;
+    l.rest.setZero(3, 2);
+    l.rest(0, 1) = 1;
+    const double w = 50, k = w * w * 0.01;
+    l.mass = Eigen::Vector2d(1, 0.01);
+    l.anchored = {1, 0};
+    l.springs = {{0, 1, 1.0, k, 2 * zeta * w * 0.01}};
+    Options o;
+    o.integrator = in;
+    o.dt = 1e-3;
+    Simulator sim(l, o);
+    State s = rest_state(l);
+    s.x(0, 1) = 1.2;
+    const double e0 = energy(l, s.x, s.v).total();
+    double min_x = 2;
+    for (int step = 0; step < 2000; ++step) {
+      sim.step(s, {});
+      const double e = energy(l, s.x, s.v).total();
+      ASSERT_TRUE(std::isfinite(e));
+      ASSERT_LE(e, ceiling(sim, e0)) << "step " << step;
+      min_x = std::min(min_x, s.x(0, 1));
+    }
+    if (zeta >= 1) {
+      EXPECT_GE(min_x, 1.0 - 1e-9) << "overshoot past critical damping";
+    }
+    if (zeta > 0) {
+      EXPECT_LT(energy(l, s.x, s.v).total(), 0.01 * e0);
     }
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(, MassspringHardCasesPerIntegrator, ::testing::ValuesIn(tests::kIntegrators),
+                         tests::integrator_name);
 
 struct Scene {
   Lattice lattice;
@@ -384,33 +374,38 @@ TEST(MassspringAdaptive, ErrorShrinksWithTheThresholdAndSoDoesTheSaving) {
   EXPECT_LT(simulated, sc.lattice.size() / 3);
 }
 
-TEST(MassspringAdaptive, ActivationSpreadsFromTheContactAndRetires) {
+class MassspringAdaptivePerIntegrator : public ::testing::TestWithParam<Integrator> {};
+
+TEST_P(MassspringAdaptivePerIntegrator, ActivationSpreadsFromTheContactAndRetires) {
+  const Integrator in = GetParam();
   const Scene sc = scene(0.02);
   // The contact and the free masses it shares a spring with.
   std::set<int> ring{sc.contact};
   for (const Spring& sp : sc.lattice.springs)
     if (sp.i == sc.contact || sp.j == sc.contact) ring.insert(sp.i == sc.contact ? sp.j : sp.i);
-  for (Integrator in : {Integrator::symplectic_euler, Integrator::implicit_euler, Integrator::local_global}) {
-    SCOPED_TRACE(name(in));
-    Options o;
-    o.integrator = in;
-    o.dt = 1e-3;
-    o.threshold = 1e-9;
-    Simulator sim(sc.lattice, o);
-    State s = rest_state(sc.lattice);
-    const PointForce press{sc.contact, Eigen::Vector3d(0, 0, -0.3)};
-    StepInfo first = sim.step(s, {press});
-    EXPECT_EQ(first.simulated, int(ring.size()));
-    StepInfo info;
-    for (int k = 0; k < 20; ++k) info = sim.step(s, {press});
-    EXPECT_GT(info.simulated, first.simulated);
-    // Released, the damped box comes to rest and every mass retires.
-    for (int k = 0; k < 3000 && info.active > 0; ++k) info = sim.step(s, {});
-    EXPECT_EQ(info.active, 0);
-    info = sim.step(s, {});
-    EXPECT_EQ(info.simulated, 0);
-  }
+  Options o;
+  o.integrator = in;
+  o.dt = 1e-3;
+  o.threshold = 1e-9;
+  Simulator sim(sc.lattice, o);
+  State s = rest_state(sc.lattice);
+  const PointForce press{sc.contact, Eigen::Vector3d(0, 0, -0.3)};
+  StepInfo first = sim.step(s, {press});
+  EXPECT_EQ(first.simulated, int(ring.size()));
+  StepInfo info;
+  for (int k = 0; k < 20; ++k) info = sim.step(s, {press});
+  EXPECT_GT(info.simulated, first.simulated);
+  // Released, the damped box comes to rest and every mass retires.
+  for (int k = 0; k < 3000 && info.active > 0; ++k) info = sim.step(s, {});
+  EXPECT_EQ(info.active, 0);
+  info = sim.step(s, {});
+  EXPECT_EQ(info.simulated, 0);
 }
+
+INSTANTIATE_TEST_SUITE_P(, MassspringAdaptivePerIntegrator,
+                         ::testing::Values(Integrator::symplectic_euler, Integrator::implicit_euler,
+                                           Integrator::local_global),
+                         tests::integrator_name);
 
 TEST(MassspringAdaptive, ZeroThresholdIsTheFullModel) {
   const Scene sc = scene();
@@ -456,32 +451,36 @@ Lattice line() {
   return l;
 }
 
-TEST(MassspringHold, HeldMassStaysAndPassesTheSeriesSpringForce) {
-  for (Integrator in : {Integrator::symplectic_euler, Integrator::velocity_verlet, Integrator::rk4,
-                        Integrator::implicit_euler, Integrator::local_global})
-    for (double threshold : {0.0, 1e-12}) {
-      SCOPED_TRACE(std::string(name(in)) + " threshold " + std::to_string(threshold));
-      Options o;
-      o.integrator = in;
-      o.threshold = threshold;
-      Simulator sim(line(), o);
-      State s = rest_state(sim.lattice());
-      const double d = 0.004;  // m, pulled along +x
-      s.x(0, 2) += d;
-      sim.hold(2, true);
-      EXPECT_TRUE(sim.held(2));
-      for (int k = 0; k < 3000; ++k) sim.step(s, {});
-      EXPECT_EQ(s.x(0, 2), 0.02 + d);              // exactly where it was put
-      EXPECT_NEAR(s.x(0, 1), 0.01 + d / 2, 1e-7);  // the free mass settles midway
-      // Two springs in series: k/2 on the whole pull, back toward the anchor.
-      EXPECT_NEAR(sim.spring_force(2, s).x(), -25 * d, 1e-5);
-      EXPECT_NEAR(sim.spring_force(2, s).tail<2>().norm(), 0, 1e-12);
+class MassspringHoldPerIntegrator : public ::testing::TestWithParam<Integrator> {};
 
-      sim.hold(2, false);
-      for (int k = 0; k < 3000; ++k) sim.step(s, {});
-      EXPECT_NEAR(s.x(0, 2), 0.02, 1e-6);  // released, it springs back
-    }
+TEST_P(MassspringHoldPerIntegrator, HeldMassStaysAndPassesTheSeriesSpringForce) {
+  const Integrator in = GetParam();
+  for (double threshold : {0.0, 1e-12}) {
+    SCOPED_TRACE("threshold " + std::to_string(threshold));
+    Options o;
+    o.integrator = in;
+    o.threshold = threshold;
+    Simulator sim(line(), o);
+    State s = rest_state(sim.lattice());
+    const double d = 0.004;  // m, pulled along +x
+    s.x(0, 2) += d;
+    sim.hold(2, true);
+    EXPECT_TRUE(sim.held(2));
+    for (int k = 0; k < 3000; ++k) sim.step(s, {});
+    EXPECT_EQ(s.x(0, 2), 0.02 + d);              // exactly where it was put
+    EXPECT_NEAR(s.x(0, 1), 0.01 + d / 2, 1e-7);  // the free mass settles midway
+    // Two springs in series: k/2 on the whole pull, back toward the anchor.
+    EXPECT_NEAR(sim.spring_force(2, s).x(), -25 * d, 1e-5);
+    EXPECT_NEAR(sim.spring_force(2, s).tail<2>().norm(), 0, 1e-12);
+
+    sim.hold(2, false);
+    for (int k = 0; k < 3000; ++k) sim.step(s, {});
+    EXPECT_NEAR(s.x(0, 2), 0.02, 1e-6);  // released, it springs back
+  }
 }
+
+INSTANTIATE_TEST_SUITE_P(, MassspringHoldPerIntegrator, ::testing::ValuesIn(tests::kIntegrators),
+                         tests::integrator_name);
 
 TEST(MassspringHold, HoldingWakesTheNeighboursOfTheAdaptiveModel) {
   Lattice l = make_box(6, 6, 6, 0.01, Material{});

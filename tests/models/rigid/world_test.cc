@@ -41,20 +41,22 @@ TEST(Rigid, Eq2IsExactOverEveryImpactParameter) {
 // Momentum and angular momentum about the origin, to 1e-12 per collision,
 // for hits on a cube and a sphere with friction (the tip a particle, as
 // in the seed, so that its friction acts at its centre).
-TEST(Rigid, CollisionsConserveMomentumAndAngularMomentum) {
-  for (const Shape shape : {Shape::cube, Shape::sphere})
-    for (const double mu : {0.0, 0.5})
-      for (const double y : {0.0, 0.007, 0.015}) {
-        World w(free_space(0.6, mu, 0), {body(shape)});
-        w.set_tip({Eigen::Vector3d(-0.05, y, 0.004), Eigen::Vector3d(2, 0.1, -0.2)});
-        const Eigen::Vector3d p0 = w.momentum(), l0 = w.angular_momentum();
-        int hits = 0;
-        for (int n = 0; n < 60; ++n) hits += w.step(1e-3).hits;
-        SCOPED_TRACE(std::string(name(shape)) + " mu " + std::to_string(mu) + " y " + std::to_string(y));
-        EXPECT_EQ(hits, 1);
-        EXPECT_LT((w.momentum() - p0).norm(), 1e-12 * p0.norm());
-        EXPECT_LT((w.angular_momentum() - l0).norm(), 1e-12 * (l0.norm() + 0.1 * 2 * 0.05));
-      }
+class RigidPerShape : public ::testing::TestWithParam<Shape> {};
+
+TEST_P(RigidPerShape, CollisionsConserveMomentumAndAngularMomentum) {
+  const Shape shape = GetParam();
+  for (const double mu : {0.0, 0.5})
+    for (const double y : {0.0, 0.007, 0.015}) {
+      World w(free_space(0.6, mu, 0), {body(shape)});
+      w.set_tip({Eigen::Vector3d(-0.05, y, 0.004), Eigen::Vector3d(2, 0.1, -0.2)});
+      const Eigen::Vector3d p0 = w.momentum(), l0 = w.angular_momentum();
+      int hits = 0;
+      for (int n = 0; n < 60; ++n) hits += w.step(1e-3).hits;
+      SCOPED_TRACE("mu " + std::to_string(mu) + " y " + std::to_string(y));
+      EXPECT_EQ(hits, 1);
+      EXPECT_LT((w.momentum() - p0).norm(), 1e-12 * p0.norm());
+      EXPECT_LT((w.angular_momentum() - l0).norm(), 1e-12 * (l0.norm() + 0.1 * 2 * 0.05));
+    }
 }
 
 // Without friction a hit keeps (1 - e^2) of nothing: it loses exactly
@@ -109,16 +111,18 @@ TEST(Rigid, ZeroVelocityAndGrazingTouchesExchangeNothing) {
 
 // 10 m/s at 1 kHz moves the tip 1 cm a step; the 7 mm-wide sphere lies
 // between two of its positions and is still hit (and so is a cube).
-TEST(Rigid, FastStylusDoesNotTunnel) {
-  for (const Shape shape : {Shape::sphere, Shape::cube}) {
-    World w(free_space(1, 0, 0.0005), {body(shape, 0.003, 0.01)});
-    w.set_tip({Eigen::Vector3d(-0.0045, 0.0002, 0), Eigen::Vector3d(10, 0, 0)});
-    int hits = 0;
-    for (int n = 0; n < 3; ++n) hits += w.step(1e-3).hits;
-    EXPECT_EQ(hits, 1) << name(shape);
-    EXPECT_GT(w.bodies()[0].v.x(), 5) << name(shape);
-  }
+TEST_P(RigidPerShape, FastStylusDoesNotTunnel) {
+  const Shape shape = GetParam();
+  World w(free_space(1, 0, 0.0005), {body(shape, 0.003, 0.01)});
+  w.set_tip({Eigen::Vector3d(-0.0045, 0.0002, 0), Eigen::Vector3d(10, 0, 0)});
+  int hits = 0;
+  for (int n = 0; n < 3; ++n) hits += w.step(1e-3).hits;
+  EXPECT_EQ(hits, 1);
+  EXPECT_GT(w.bodies()[0].v.x(), 5);
 }
+
+INSTANTIATE_TEST_SUITE_P(, RigidPerShape, ::testing::Values(Shape::cube, Shape::sphere),
+                         [](const ::testing::TestParamInfo<Shape>& i) { return std::string(name(i.param)); });
 
 // A spinning sphere hit with friction: the tip is thrown sideways, the
 // spin changes about r x F, and momentum is conserved.
