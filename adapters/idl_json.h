@@ -1,4 +1,4 @@
-// JSON text of every IDL type: `hcosim echo`, exports and tests.
+// Every IDL type as JSON: `hcosim echo`, exports and tests.
 #pragma once
 
 #include <string>
@@ -13,30 +13,29 @@
 
 namespace hcosim::adapters {
 
-// Field names and nesting follow the IDL exactly; byte sequences (image
-// data) are summarised as their length to keep lines readable.
-void write_json(Json& j, const Vec3& v);
-void write_json(Json& j, const Quat& q);
-void write_json(Json& j, const Transform& p);
-void write_json(Json& j, const StepStamp& s);
-void write_json(Json& j, const HapticState& s);
-void write_json(Json& j, const ForceFeedback& s);
-void write_json(Json& j, const MarkerPose& s);
-void write_json(Json& j, const CameraFrame& s);
-void write_json(Json& j, const RigidBodyState& s);
-void write_json(Json& j, const RigidDivergence& s);
-void write_json(Json& j, const DeformedMesh& s);
-void write_json(Json& j, const MeshTopology& s);
-void write_json(Json& j, const ServiceStatus& s);
-void write_json(Json& j, const ClockTick& s);
-void write_json(Json& j, const StepDone& s);
+// Field names, order and nesting follow the IDL exactly; byte sequences
+// (image data) are summarised as their length (`data_bytes`) to keep
+// lines readable.
+Json json_of(const Vec3& v);
+Json json_of(const Quat& q);
+Json json_of(const Transform& p);
+Json json_of(const StepStamp& s);
+Json json_of(const HapticState& s);
+Json json_of(const ForceFeedback& s);
+Json json_of(const MarkerPose& s);
+Json json_of(const CameraFrame& s);
+Json json_of(const RigidBodyState& s);
+Json json_of(const RigidDivergence& s);
+Json json_of(const DeformedMesh& s);
+Json json_of(const MeshTopology& s);
+Json json_of(const ServiceStatus& s);
+Json json_of(const ClockTick& s);
+Json json_of(const StepDone& s);
 
 // One sample as a single-line JSON object.
 template <class T>
 std::string to_json(const T& sample) {
-  Json j;
-  write_json(j, sample);
-  return j.str();
+  return json_line(json_of(sample));
 }
 
 }  // namespace hcosim::adapters

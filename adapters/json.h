@@ -1,45 +1,26 @@
-// Compact JSON text builder: CLI output, bench reports, recordings.
+// JSON, read and written with nlohmann-json: CLI output, bench and device
+// reports, exports. Objects keep their keys in the order written (the
+// IDL's field order); non-finite numbers are written as null (JSON has no
+// NaN) and doubles as the shortest text that reads back to the same value.
 #pragma once
 
-#include <cstdint>
 #include <string>
-#include <string_view>
-#include <vector>
+
+#include <nlohmann/json.hpp>
 
 namespace hcosim::adapters {
 
-// Appends JSON tokens to a string, placing commas itself. Non-finite
-// numbers become null (JSON has no NaN); doubles use the shortest text that
-// reads back to the same value.
-class Json {
- public:
-  Json& begin_object();
-  Json& end_object();
-  Json& begin_array();
-  Json& end_array();
-  Json& key(std::string_view k);
-  Json& value(double v);
-  Json& value(float v);
-  Json& value(std::int64_t v);
-  Json& value(std::uint64_t v);
-  Json& value(int v) { return value(static_cast<std::int64_t>(v)); }
-  Json& value(unsigned v) { return value(static_cast<std::uint64_t>(v)); }
-  Json& value(bool v);
-  Json& value(std::string_view v);
-  Json& value(const char* v) { return value(std::string_view(v)); }
-  Json& null();
+using Json = nlohmann::ordered_json;
 
-  const std::string& str() const { return out_; }
+// The double that `v`'s shortest decimal text reads as, so that 0.1f is
+// written 0.1 and reads back as 0.1f (not 0.10000000149011612).
+double json_float(float v);
 
- private:
-  void separate();
-  Json& open(char bracket);
-  Json& close(char bracket);
-  template <class F>
-  Json& number(F v);
-  std::string out_;
-  std::vector<bool> first_;  // one entry per open container: no element yet
-  bool after_key_ = false;
-};
+// `j` on one line; invalid UTF-8 in a string is replaced, never thrown.
+std::string json_line(const Json& j);
+
+// The JSON document `text`; throws adapters::ConfigError "WHERE: not JSON:
+// ..." with the parser's position.
+Json parse_json(const std::string& text, const std::string& where);
 
 }  // namespace hcosim::adapters

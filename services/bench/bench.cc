@@ -10,9 +10,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <variant>
-
-#include <yaml-cpp/yaml.h>
 
 #include "adapters/json.h"
 #include "services/bench/bench.h"
@@ -31,50 +30,50 @@ const std::vector<Suite>& suites() {
 
 void write_json(const fs::path& dir, const Result& r) {
   adapters::Json j;
-  j.begin_object()
-      .key("suite")
-      .value(r.suite->name)
-      .key("description")
-      .value(r.suite->what)
-      .key("machine")
-      .begin_object();
-  for (const auto& [k, v] : r.machine) j.key(k).value(v);
-  j.end_object().key("command").value(r.command).key("seconds").value(r.seconds).key("rows").begin_array();
+  j["suite"] = r.suite->name;
+  j["description"] = r.suite->what;
+  j["machine"] = adapters::Json::object();
+  for (const auto& [k, v] : r.machine) j["machine"][k] = v;
+  j["command"] = r.command;
+  j["seconds"] = r.seconds;
+  j["rows"] = adapters::Json::array();
   for (const auto& row : r.rows) {
-    j.begin_object().key("name").value(row.name).key("params").begin_object();
-    for (const auto& [k, v] : row.params) {
-      j.key(k);
-      std::visit([&](const auto& x) { j.value(x); }, v);
-    }
-    j.end_object().key("metrics").begin_object();
-    for (const auto& [k, v] : row.metrics) j.key(k).value(v);
-    j.end_object().end_object();
+    adapters::Json out;
+    out["name"] = row.name;
+    out["params"] = adapters::Json::object();
+    for (const auto& [k, v] : row.params) std::visit([&](const auto& x) { out["params"][k] = x; }, v);
+    out["metrics"] = adapters::Json::object();
+    for (const auto& [k, v] : row.metrics) out["metrics"][k] = v;
+    j["rows"].push_back(std::move(out));
   }
-  j.end_array().end_object();
   const fs::path file = dir / (std::string(r.suite->name) + ".json");
-  std::ofstream(file) << j.str() << "\n";
+  std::ofstream(file) << adapters::json_line(j) << "\n";
   std::cout << "wrote " << file.string() << "\n";
 }
 
-// A suite's result as write_json wrote it (JSON read as YAML: quoted
-// scalars are strings, plain ones numbers, null a metric not measured).
+// A suite's result as write_json wrote it (null: a metric not measured).
 Result read_json(const fs::path& file, const Suite& s) {
-  const YAML::Node doc = YAML::LoadFile(file.string());
-  Result r{&s, {},  {}, doc["command"] ? doc["command"].as<std::string>() : "a run that did not record its command",
-           {}, NAN, ""};
-  for (const auto& kv : doc["machine"]) r.machine.emplace_back(kv.first.as<std::string>(), kv.second.as<std::string>());
-  if (doc["seconds"] && !doc["seconds"].IsNull()) r.seconds = doc["seconds"].as<double>();
-  for (const YAML::Node& row : doc["rows"]) {
-    Row out{row["name"].as<std::string>(), {}, {}};
-    for (const auto& kv : row["params"]) {
-      const std::string k = kv.first.as<std::string>();
-      if (kv.second.Tag() == "!")
-        out.params.emplace_back(k, kv.second.as<std::string>());
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  const adapters::Json doc = adapters::parse_json(text.str(), file.string());
+  const auto number = [](const adapters::Json& v) { return v.is_number() ? v.get<double>() : NAN; };
+  Result r{&s, {}, {}, doc.value("command", std::string("a run that did not record its command")), {}, NAN, ""};
+  // Each optional part is held first: a range over a temporary's items() would dangle.
+  const adapters::Json none = adapters::Json::object(), machine = doc.value("machine", none),
+                       rows = doc.value("rows", adapters::Json::array());
+  for (const auto& [k, v] : machine.items()) r.machine.emplace_back(k, v.get<std::string>());
+  if (doc.contains("seconds")) r.seconds = number(doc["seconds"]);
+  for (const adapters::Json& row : rows) {
+    Row out{row.at("name").get<std::string>(), {}, {}};
+    const adapters::Json params = row.value("params", none), metrics = row.value("metrics", none);
+    for (const auto& [k, v] : params.items()) {
+      if (v.is_string())
+        out.params.emplace_back(k, v.get<std::string>());
       else
-        out.params.emplace_back(k, kv.second.as<double>());
+        out.params.emplace_back(k, number(v));
     }
-    for (const auto& kv : row["metrics"])
-      out.metrics.emplace_back(kv.first.as<std::string>(), kv.second.IsNull() ? NAN : kv.second.as<double>());
+    for (const auto& [k, v] : metrics.items()) out.metrics.emplace_back(k, number(v));
     r.rows.push_back(std::move(out));
   }
   return r;
@@ -89,9 +88,9 @@ int report(const fs::path& dir) {
     if (!fs::exists(file)) continue;
     try {
       results.push_back(read_json(file, s));
-    } catch (const YAML::Exception& e) {
-      throw std::runtime_error(file.string() + ":" + std::to_string(e.mark.line + 1) +
-                               ": not a bench report: " + e.msg);
+    } catch (const adapters::Json::exception& e) {
+      // Valid JSON of another shape: a field missing or of the wrong type.
+      throw std::runtime_error(file.string() + ": not a bench report: " + e.what());
     }
     results.back().figures = draw_plots(s, results.back().rows, dir);
   }

@@ -25,11 +25,11 @@
 
 #include <cmath>
 #include <fstream>
-#include <regex>
 #include <sstream>
 #include <thread>
 
 #include "adapters/device/wall_rig.h"
+#include "adapters/json.h"
 #include "services/bench/bench.h"
 #include "services/bench/peer.h"
 #include "services/runtime/deployment.h"
@@ -40,13 +40,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The number after "key": in a one-line JSON report; null (a figure of
-// no sample, such as the error of no late answer) is NaN.
+// The figure `key` of the device's JSON report; null (a figure of no
+// sample, such as the error of no late answer) is NaN.
 double field(const std::string& json, const std::string& key) {
-  std::smatch m;
-  if (!std::regex_search(json, m, std::regex("\"" + key + "\":([-0-9.eE+]+|null)")))
-    throw std::runtime_error("bench haptic: no '" + key + "' in the device's report: " + json);
-  return m[1] == "null" ? NAN : std::stod(m[1]);
+  const adapters::Json j = adapters::parse_json(json, "bench haptic: the device's report");
+  if (!j.contains(key)) throw std::runtime_error("bench haptic: no '" + key + "' in the device's report: " + json);
+  return j[key].is_number() ? j[key].get<double>() : NAN;
 }
 
 Row closed_loop(const Context& c, double seconds) {

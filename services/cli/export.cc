@@ -8,12 +8,9 @@
 #include <iostream>
 #include <map>
 #include <memory>
-#include <regex>
 #include <stdexcept>
 #include <thread>
 #include <tuple>
-
-#include <yaml-cpp/yaml.h>
 
 #include "adapters/idl_json.h"
 #include "services/cli/cli.h"
@@ -23,15 +20,25 @@
 namespace hcosim::services::cli {
 namespace {
 
-// The scalars of a JSON object as (path, text) pairs: "stamp.step",
-// "positions.3". JSON is YAML's flow style, so yaml-cpp reads it.
-void flatten(const YAML::Node& n, const std::string& path, std::vector<std::pair<std::string, std::string>>& out) {
-  if (n.IsMap()) {
-    for (const auto& kv : n) flatten(kv.second, path.empty() ? kv.first.Scalar() : path + "." + kv.first.Scalar(), out);
-  } else if (n.IsSequence()) {
+// The scalars of a decoded sample's JSON as (path, text) pairs:
+// "stamp.step", "positions.3"; null (a non-finite number) is an empty cell.
+void flatten(const adapters::Json& n, const std::string& path, std::vector<std::pair<std::string, std::string>>& out) {
+  if (n.is_object()) {
+    for (const auto& [k, v] : n.items()) flatten(v, path.empty() ? k : path + "." + k, out);
+  } else if (n.is_array()) {
     for (std::size_t i = 0; i < n.size(); ++i) flatten(n[i], path + "." + std::to_string(i), out);
   } else {
-    out.emplace_back(path, n.IsNull() ? "" : n.Scalar());
+    out.emplace_back(path, n.is_null() ? "" : n.is_string() ? n.get<std::string>() : n.dump());
+  }
+}
+
+// Removes every "wall_time_ns" (it differs between runs of the same deployment).
+void drop_wall_times(adapters::Json& n) {
+  if (n.is_object()) {
+    n.erase("wall_time_ns");
+    for (auto& [k, v] : n.items()) drop_wall_times(v);
+  } else if (n.is_array()) {
+    for (auto& v : n) drop_wall_times(v);
   }
 }
 
@@ -88,23 +95,21 @@ int export_recording(const std::vector<std::string>& argv) {
   std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
     return std::tie(records[x].step, keys[x]) < std::tie(records[y].step, keys[y]);
   });
-  // Wall-clock fields differ between runs of the same deployment.
-  const std::regex wall(R"(,"wall_time_ns":-?[0-9]+)");
   std::vector<std::string> header;
   for (const std::size_t i : order) {
     const runtime::Record& r = records[i];
-    std::string line;
+    adapters::Json sample;
     runtime::with_topic(topic, [&](auto tag) {
       using T = typename decltype(tag)::type;
-      line = adapters::to_json(runtime::from_cdr<T>(r.cdr));
+      sample = adapters::json_of(runtime::from_cdr<T>(r.cdr));
     });
-    if (!a.has("--wall")) line = std::regex_replace(line, wall, "");
+    if (!a.has("--wall")) drop_wall_times(sample);
     if (format == "jsonl") {
-      std::printf("%s\n", line.c_str());
+      std::printf("%s\n", adapters::json_line(sample).c_str());
       continue;
     }
     std::vector<std::pair<std::string, std::string>> cells;
-    flatten(YAML::Load(line), "", cells);
+    flatten(sample, "", cells);
     if (header.empty()) {
       std::string h;
       for (const auto& c : cells) header.push_back(c.first), h += (h.empty() ? "" : ",") + csv_field(c.first);

@@ -10,7 +10,6 @@
 #include <map>
 #include <stdexcept>
 
-#include <yaml-cpp/yaml.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
@@ -38,13 +37,14 @@ constexpr std::size_t kMaxFrames = 1 << 16;
 // {"frame": i, "id": n, "R": [row-major, tag to camera], "t": [m], "reprojection_error_px": e}
 std::string pose_line(std::uint64_t frame, int id, const Eigen::Isometry3d& p, double error_px) {
   adapters::Json j;
-  j.begin_object().key("frame").value(frame).key("id").value(id).key("R").begin_array();
+  j["frame"] = frame;
+  j["id"] = id;
+  j["R"] = adapters::Json::array();
   for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) j.value(p.linear()(r, c));
-  j.end_array().key("t").begin_array();
-  for (int r = 0; r < 3; ++r) j.value(p.translation()(r));
-  j.end_array().key("reprojection_error_px").value(error_px).end_object();
-  return j.str();
+    for (int c = 0; c < 3; ++c) j["R"].push_back(p.linear()(r, c));
+  j["t"] = {p.translation().x(), p.translation().y(), p.translation().z()};
+  j["reprojection_error_px"] = error_px;
+  return adapters::json_line(j);
 }
 
 // The poses of a JSON-lines file in pose_line's format, by (frame, id).
@@ -56,20 +56,20 @@ std::map<std::pair<std::uint64_t, int>, Eigen::Isometry3d> read_poses(const std:
   for (int n = 1; std::getline(in, line); ++n) {
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
     const std::string where = path + ":" + std::to_string(n);
-    try {
-      // JSON is YAML's flow style: yaml-cpp reads these lines.
-      const YAML::Node j = YAML::Load(line);
-      const YAML::Node R = j["R"], t = j["t"];
-      if (!j.IsMap() || !j["frame"] || !j["id"] || !R.IsSequence() || R.size() != 9 || !t.IsSequence() || t.size() != 3)
-        throw adapters::ConfigError(
-            where + ": expected {\"frame\": i, \"id\": n, \"R\": [9 numbers], \"t\": [3 numbers], ...}");
-      Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
-      for (int k = 0; k < 9; ++k) p.linear()(k / 3, k % 3) = adapters::config_number(where, R[k], "R");
-      for (int k = 0; k < 3; ++k) p.translation()(k) = adapters::config_number(where, t[k], "t");
-      out[{j["frame"].as<std::uint64_t>(), j["id"].as<int>()}] = p;
-    } catch (const YAML::Exception& e) {
-      throw adapters::ConfigError(where + ": not a pose line: " + e.msg);
-    }
+    const adapters::Json j = adapters::parse_json(line, where);
+    const auto number = [&](const adapters::Json& v, const char* key) {
+      if (!v.is_number()) throw adapters::ConfigError(where + ": '" + key + "' must hold numbers, not " + v.dump());
+      return v.get<double>();
+    };
+    if (!j.is_object() || !j.contains("frame") || !j["frame"].is_number_unsigned() || !j.contains("id") ||
+        !j["id"].is_number_integer() || !j.contains("R") || !j["R"].is_array() || j["R"].size() != 9 ||
+        !j.contains("t") || !j["t"].is_array() || j["t"].size() != 3)
+      throw adapters::ConfigError(where +
+                                  ": expected {\"frame\": i, \"id\": n, \"R\": [9 numbers], \"t\": [3 numbers], ...}");
+    Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+    for (int k = 0; k < 9; ++k) p.linear()(k / 3, k % 3) = number(j["R"][k], "R");
+    for (int k = 0; k < 3; ++k) p.translation()(k) = number(j["t"][k], "t");
+    out[{j["frame"].get<std::uint64_t>(), j["id"].get<int>()}] = p;
   }
   return out;
 }

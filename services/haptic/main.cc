@@ -247,19 +247,23 @@ int run(int argc, char** argv) {
   svc.set_haptic_figures(in_tick_ratio, error_n.percentile(0.99));
   if (!report.empty()) {
     // Percentiles of no sample are NaN (no late answer: no error), which
-    // Json writes as null.
+    // JSON writes as null.
     adapters::Json j;
-    j.begin_object();
-    j.key("ticks").value(std::uint64_t(seq)).key("answered").value(std::uint64_t(w.size()));
-    j.key("p50_us").value(w.percentile(0.5)).key("p99_us").value(w.percentile(0.99));
-    j.key("on_time_ratio").value(in_tick_ratio);
-    j.key("jitter_p50_us").value(jitter_us.percentile(0.5)).key("jitter_p99_us").value(jitter_us.percentile(0.99));
-    j.key("modelled").value(std::uint64_t(modelled)).key("covered").value(std::uint64_t(covered));
-    j.key("late_answers").value(std::uint64_t(error_n.size()));
-    j.key("force_error_p99_n").value(error_n.percentile(0.99)).key("peak_force_n").value(peak);
-    j.key("saturated").value(std::uint64_t(omni.saturated())).end_object();
+    j["ticks"] = std::uint64_t(seq);
+    j["answered"] = std::uint64_t(w.size());
+    j["p50_us"] = w.percentile(0.5);
+    j["p99_us"] = w.percentile(0.99);
+    j["on_time_ratio"] = in_tick_ratio;
+    j["jitter_p50_us"] = jitter_us.percentile(0.5);
+    j["jitter_p99_us"] = jitter_us.percentile(0.99);
+    j["modelled"] = std::uint64_t(modelled);
+    j["covered"] = std::uint64_t(covered);
+    j["late_answers"] = std::uint64_t(error_n.size());
+    j["force_error_p99_n"] = error_n.percentile(0.99);
+    j["peak_force_n"] = peak;
+    j["saturated"] = std::uint64_t(omni.saturated());
     std::ofstream r(report);
-    r << j.str() << "\n";
+    r << adapters::json_line(j) << "\n";
     if (!r) throw std::runtime_error("cannot write " + report);
   }
   std::printf(
