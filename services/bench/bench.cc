@@ -41,7 +41,7 @@ void write_json(const fs::path& dir, const Result& r) {
     adapters::Json out;
     out["name"] = row.name;
     out["params"] = adapters::Json::object();
-    for (const auto& [k, v] : row.params) std::visit([&](const auto& x) { out["params"][k] = x; }, v);
+    for (const auto& [k, v] : row.params) std::visit([&, key = k](const auto& x) { out["params"][key] = x; }, v);
     out["metrics"] = adapters::Json::object();
     for (const auto& [k, v] : row.metrics) out["metrics"][k] = v;
     j["rows"].push_back(std::move(out));
