@@ -12,7 +12,7 @@ packages=(
   build-essential cmake ninja-build ccache pkg-config
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
   libeigen3-dev libopencv-dev libopencv-contrib-dev libapriltag-dev
-  libmujoco-dev libqhull-dev libyaml-cpp-dev nlohmann-json3-dev googletest libgtest-dev libbenchmark-dev
+  libmujoco-dev libqhull-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev googletest libgtest-dev libbenchmark-dev
   cyclonedds-dev cyclonedds-tools jq clang libclang-rt-14-dev
   openssl tshark clang-format-14
 )

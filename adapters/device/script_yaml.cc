@@ -1,26 +1,28 @@
 #include "adapters/device/script_yaml.h"
 
 #include <cmath>
+#include <limits>
 
 #include "adapters/config.h"
 
 namespace hcosim::adapters::device {
 namespace {
 
-Eigen::Vector3d vec3(const std::string& file, const YAML::Node& n, const std::string& key) {
-  if (!n.IsSequence() || n.size() != 3) throw config_error(file, n, "'" + key + "' must be [x, y, z]");
-  return {config_number(file, n[0], key), config_number(file, n[1], key), config_number(file, n[2], key)};
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+Eigen::Vector3d vec3(const Config& c, const std::string& key, const Eigen::Vector3d& fallback) {
+  const auto v = c.vec3(key, {fallback.x(), fallback.y(), fallback.z()});
+  return {v[0], v[1], v[2]};
 }
 
-models::haptic::Action action(const std::string& file, const YAML::Node& item) {
+models::haptic::Action action(const Config& item) {
   using K = models::haptic::Action::Kind;
   const std::vector<std::string> kinds{"move_to", "press", "hold", "stroke", "tap", "release"};
-  if (!item.IsMap() || item.size() != 1)
-    throw config_error(file, item, "each action is a one-key map, one of " + join(kinds));
-  const std::string kind = item.begin()->first.Scalar();
-  const YAML::Node body = item.begin()->second;
+  const YAML::Node& n = item.node();
+  if (n.size() != 1) item.fail("", "each action is a one-key map, one of " + join(kinds));
+  const std::string kind = n.begin()->first.Scalar();
   models::haptic::Action a;
-  a.line = item.Mark().line + 1;
+  a.line = n.Mark().line + 1;
   std::vector<std::string> keys;
   if (kind == "move_to")
     a.kind = K::move_to, keys = {"to", "speed"};
@@ -35,41 +37,39 @@ models::haptic::Action action(const std::string& file, const YAML::Node& item) {
   else if (kind == "release")
     a.kind = K::release, keys = {"speed"};
   else
-    check_keys(file, item, kinds);  // throws, with the nearest action name
-  if (!body.IsMap()) throw config_error(file, body, "'" + kind + "' takes a map of " + join(keys));
+    item.allow_only(kinds);  // throws, with the nearest action name
+  if (!n.begin()->second.IsMap()) item.fail(kind, "'" + kind + "' takes a map of " + join(keys));
+  const Config body = item.map(kind);
   keys.push_back("buttons");
-  check_keys(file, body, keys);
-  if (kind == "move_to" && !body["to"]) throw config_error(file, body, "move_to needs 'to'");
-  if (kind == "stroke" && !body["by"]) throw config_error(file, body, "stroke needs 'by'");
-  if (kind == "hold" && !body["duration"]) throw config_error(file, body, "hold needs 'duration'");
-  if (body["to"]) a.to = vec3(file, body["to"], "to");
-  if (body["by"]) a.to = vec3(file, body["by"], "by");
-  if (body["direction"]) a.direction = vec3(file, body["direction"], "direction");
-  if (body["depth"]) a.depth = config_number(file, body["depth"], "depth");
-  if (body["force"]) a.force = config_number(file, body["force"], "force");
-  if (body["speed"]) a.speed = config_number(file, body["speed"], "speed");
-  if (body["duration"]) a.duration = config_number(file, body["duration"], "duration");
-  if (body["buttons"]) {
-    const double b = config_number(file, body["buttons"], "buttons");
-    if (!(b >= 0 && b <= 15 && b == std::floor(b)))
-      throw config_error(file, body["buttons"], "'buttons' is a bit mask of the Omni's buttons, a whole number 0..15");
-    a.buttons = unsigned(b);
-  }
-  if (const std::string p = models::haptic::problem(a); !p.empty()) throw config_error(file, item, kind + ": " + p);
+  body.allow_only(keys);
+  if (kind == "move_to") body.require({"to"}, kind);
+  if (kind == "stroke") body.require({"by"}, kind);
+  if (kind == "hold") body.require({"duration"}, kind);
+  a.to = vec3(body, kind == "stroke" ? "by" : "to", a.to);
+  a.direction = vec3(body, "direction", a.direction);
+  // Signs and sizes are the model's to judge (models::haptic::problem).
+  a.depth = body.number("depth", a.depth, -kInf, kInf);
+  a.force = body.number("force", a.force, -kInf, kInf);
+  a.speed = body.number("speed", a.speed, -kInf, kInf);
+  a.duration = body.number("duration", a.duration, -kInf, kInf);
+  const double buttons = body.number("buttons", a.buttons, -kInf, kInf);
+  if (!(buttons >= 0 && buttons <= 15 && buttons == std::floor(buttons)))
+    body.fail("buttons", "'buttons' is a bit mask of the Omni's buttons, a whole number 0..15");
+  a.buttons = unsigned(buttons);
+  if (const std::string p = models::haptic::problem(a); !p.empty()) item.fail("", kind + ": " + p);
   return a;
 }
 
 }  // namespace
 
 models::haptic::Script load_script(const std::string& path) {
-  const YAML::Node root = load_yaml(path);
-  if (!root.IsMap()) throw ConfigError(path + ":1:1: a script must be a YAML map with start and actions");
-  check_keys(path, root, {"start", "actions"});
+  const Config root = Config::load(path, "a script (start and actions)");
+  root.allow_only({"start", "actions"});
   models::haptic::Script s;
-  if (root["start"]) s.start = vec3(path, root["start"], "start");
-  const YAML::Node actions = root["actions"];
-  if (!actions || !actions.IsSequence()) throw ConfigError(path + ":1:1: a script needs a list of 'actions'");
-  for (const YAML::Node& item : actions) s.actions.push_back(action(path, item));
+  s.start = vec3(root, "start", s.start);
+  if (!root.has("actions") || !root.node()["actions"].IsSequence())
+    throw ConfigError(path + ":1:1: a script needs a list of 'actions'");
+  for (const Config& item : root.list("actions")) s.actions.push_back(action(item));
   return s;
 }
 

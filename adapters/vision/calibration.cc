@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -12,30 +13,29 @@
 namespace hcosim::adapters::vision {
 namespace {
 
-// The numbers of an rows x cols matrix node: an !!opencv-matrix or a plain
-// map with rows, cols and data.
-std::vector<double> matrix(const std::string& file, const YAML::Node& root, const std::string& key, int rows,
-                           int max_cols) {
-  const YAML::Node m = root[key];
-  if (!m.IsMap() || !m["rows"] || !m["cols"] || !m["data"] || !m["data"].IsSequence())
-    throw config_error(file, m ? m : root, "'" + key + "' must be a matrix with rows, cols and data");
-  const double r = config_number(file, m["rows"], key + ".rows"), c = config_number(file, m["cols"], key + ".cols");
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The numbers of an rows x cols matrix: an !!opencv-matrix or a plain map
+// with rows, cols and data.
+std::vector<double> matrix(const Config& root, const std::string& key, int rows, int max_cols) {
+  if (!root.has(key) || !root.node()[key].IsMap())
+    root.fail(key, "'" + key + "' must be a matrix with rows, cols and data");
+  const Config m = root.map(key);
+  m.require({"rows", "cols", "data"}, "'" + key + "'");
+  const double r = m.number("rows", 0, -kInf, kInf), c = m.number("cols", 0, -kInf, kInf);
   // Distortion is written as 1 x n or n x 1. Sizes are checked whole and
   // small before they are multiplied (a fuzzed 4e13 x 3 overflowed an int).
   const bool small = r == std::floor(r) && c == std::floor(c) && r >= 1 && c >= 1 && r <= 8 && c <= 8;
   const int n = small ? int(r) * int(c) : 0;
   if (rows == 3 ? (r != 3 || c != 3) : ((r != 1 && c != 1) || n < 4 || n > max_cols))
-    throw config_error(file, m["rows"],
-                       rows == 3 ? "'" + key + "' must be 3x3"
-                                 : "'" + key +
-                                       "' must hold 4 or 5 coefficients (k1 k2 p1 p2 [k3]); hcosim does not "
-                                       "model the rational or thin-prism terms");
-  if (int(m["data"].size()) != n)
-    throw config_error(file, m["data"],
-                       "'" + key + ".data' holds " + std::to_string(m["data"].size()) + " numbers, rows x cols is " +
-                           std::to_string(n));
-  std::vector<double> out;
-  for (const YAML::Node& v : m["data"]) out.push_back(config_number(file, v, key + ".data"));
+    m.fail("rows", rows == 3 ? "'" + key + "' must be 3x3"
+                             : "'" + key +
+                                   "' must hold 4 or 5 coefficients (k1 k2 p1 p2 [k3]); hcosim does not "
+                                   "model the rational or thin-prism terms");
+  const std::vector<double> out = m.numbers("data", -kInf, kInf);
+  if (int(out.size()) != n)
+    m.fail("data",
+           "'" + key + ".data' holds " + std::to_string(out.size()) + " numbers, rows x cols is " + std::to_string(n));
   return out;
 }
 
@@ -50,42 +50,24 @@ models::vision::Intrinsics read_intrinsics(const std::string& path) {
   std::string line;
   for (bool first = true; std::getline(in, line); first = false)
     text << (first && line.rfind("%YAML:", 0) == 0 ? "" : line) << '\n';
-  YAML::Node root;
-  try {
-    root = YAML::Load(text.str());
-  } catch (const YAML::ParserException& e) {
-    throw ConfigError(path + ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1) +
-                      ": YAML syntax error: " + e.msg);
-  }
-  if (!root.IsMap())
-    throw ConfigError(path +
-                      ": not a camera calibration (expected camera_matrix and "
-                      "distortion_coefficients, OpenCV's calibration format)");
-  if (!root["camera_matrix"]) throw ConfigError(path + ": no 'camera_matrix'");
-  if (const YAML::Node model = root["distortion_model"]) {
-    const std::string name = config_text(path, model, "distortion_model");
-    if (name != "plumb_bob" && name != "radtan")
-      throw config_error(path, model, "distortion_model '" + name + "': hcosim models plumb_bob (k1 k2 p1 p2 k3) only");
-  }
+  const Config root = Config::parse(text.str(), path,
+                                    "a camera calibration (camera_matrix and distortion_coefficients, OpenCV's "
+                                    "calibration format)");
+  if (!root.has("camera_matrix")) throw ConfigError(path + ": no 'camera_matrix'");
+  const std::string model = root.string("distortion_model", "plumb_bob");
+  if (model != "plumb_bob" && model != "radtan")
+    root.fail("distortion_model", "distortion_model '" + model + "': hcosim models plumb_bob (k1 k2 p1 p2 k3) only");
   models::vision::Intrinsics k;
   // The size is checked with the rest by check() below.
-  const auto size = [&](const char* key) {
-    const YAML::Node n = root[key];
-    if (!n) return 0;
-    const double v = config_number(path, n, key);
-    if (!(v >= 1 && v <= 1e5) || v != std::floor(v))
-      throw config_error(path, n, std::string("'") + key + "' must be a whole number of pixels");
-    return int(v);
-  };
-  k.width = size("image_width");
-  k.height = size("image_height");
-  const std::vector<double> m = matrix(path, root, "camera_matrix", 3, 3);
+  k.width = root.whole("image_width", 0, 1, 100000);
+  k.height = root.whole("image_height", 0, 1, 100000);
+  const std::vector<double> m = matrix(root, "camera_matrix", 3, 3);
   k.fx = m[0], k.cx = m[2], k.fy = m[4], k.cy = m[5];
   if (!(k.fx > 0 && k.fy > 0) || m[1] != 0 || m[3] != 0 || m[6] != 0 || m[7] != 0 || m[8] != 1)
-    throw config_error(path, root["camera_matrix"]["data"],
-                       "'camera_matrix' must be [fx 0 cx; 0 fy cy; 0 0 1] with fx, fy > 0 (no skew)");
-  if (root["distortion_coefficients"]) {
-    const std::vector<double> d = matrix(path, root, "distortion_coefficients", 1, 5);
+    root.map("camera_matrix")
+        .fail("data", "'camera_matrix' must be [fx 0 cx; 0 fy cy; 0 0 1] with fx, fy > 0 (no skew)");
+  if (root.has("distortion_coefficients")) {
+    const std::vector<double> d = matrix(root, "distortion_coefficients", 1, 5);
     for (std::size_t i = 0; i < d.size(); ++i) k.distortion[i] = d[i];
   }
   if ((k.width == 0) != (k.height == 0))

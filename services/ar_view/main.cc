@@ -3,7 +3,7 @@
 // it renders over each camera frame, registered by the marker's pose, and
 // writes the video; PNG pictures at chosen moments; and at the end, plots
 // of each object's force and penetration against time. Headless.
-// Params: docs/arview.md.
+// adapters::Config: docs/arview.md.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -14,9 +14,9 @@
 #include <opencv2/imgproc.hpp>
 
 #include "adapters/render/ar_idl.h"
+#include "adapters/render/view_config.h"
 #include "adapters/vision/media.h"
 #include "adapters/vision/vision_idl.h"
-#include "models/rigid/body.h"
 #include "services/report/plot.h"
 #include "services/runtime/service.h"
 
@@ -29,13 +29,6 @@ namespace {
 // ForceFeedback samples kept per source between two frames: a 1 kHz
 // source gives 33 to 40 at a camera's rate; more room absorbs a late step.
 constexpr int kTraceDepth = 256;
-
-struct Item {
-  std::string name;
-  std::string kind;  // rigid or deformable
-  double size = 0;   // rigid: half-edge or radius, m
-  cv::Scalar colour;
-};
 
 // One object's force and penetration over time, for the plots at the end,
 // in at most kTracePoints points: when full, each pair of points becomes
@@ -61,21 +54,6 @@ struct Trace {
   }
 };
 
-std::vector<Item> items_of(const Params& p) {
-  std::vector<Item> items;
-  for (const Params& o : p.list("objects")) {
-    Item it;
-    it.name = o.string("name", "");
-    if (it.name.empty()) o.fail("name", "each object needs a name");
-    it.kind = o.text("kind", "deformable", {"rigid", "deformable"});
-    // A rigid body's size means what the rigid service reads, with its default.
-    if (it.kind == "rigid") it.size = o.number("size", models::rigid::Body().size, 1e-3, 1);
-    it.colour = models::render::object_colour(items.size());
-    items.push_back(it);
-  }
-  return items;
-}
-
 std::string seconds(double t) { return cv::format("%05.1fs", t); }
 
 void write_plots(const fs::path& dir, const std::map<std::string, Trace>& traces) {
@@ -97,27 +75,21 @@ void write_plots(const fs::path& dir, const std::map<std::string, Trace>& traces
                                       "simulated time (s)", {all_force, all_depth}));
 }
 
-int run(int argc, char** argv) {
-  Service svc(parse_options(argc, argv));
-  const Params& p = svc.params();
+int run(const Options& options) {
+  Service svc(options);
+  const adapters::render::ViewConfig config = adapters::render::view_config(svc.params(), svc.options().rate_hz);
   const std::string& name = svc.options().name;
-  p.allow_only(
-      {"camera", "tag_id", "device", "objects", "video", "snapshots", "plots", "force_scale", "stylus", "fps"});
-  const std::string camera = p.string("camera", "");
-  const int tag_id = p.whole("tag_id", 0, 0, 1000000);
-  const std::string device = p.string("device", "omni");
-  const std::vector<Item> items = items_of(p);
-  std::vector<double> snapshots = p.numbers("snapshots", 0, 1e6);
-  std::sort(snapshots.begin(), snapshots.end());
-  const bool plots = p.on("plots", true);
-  const bool show_stylus = p.on("stylus", true);
+  const std::string& camera = config.camera;
+  const int tag_id = config.tag_id;
+  const std::string& device = config.device;
+  const std::vector<adapters::render::ViewItem>& items = config.items;
+  const std::vector<double>& snapshots = config.snapshots;
+  const bool plots = config.plots, show_stylus = config.stylus;
   models::render::View view;
-  view.force_scale = p.number("force_scale", view.force_scale, 0, 1);
+  view.force_scale = config.force_scale;
   const fs::path out = svc.options().out;
-  const std::string video_name = p.string("video", "ar.mp4");
-  // The video's frame rate is the camera's: the service's own rate when
-  // it runs at the camera's, as it should.
-  const double fps = p.number("fps", svc.options().rate_hz, 1, 1000);
+  const std::string& video_name = config.video;
+  const double fps = config.fps;
   fs::create_directories(out);
   const fs::path video_path = video_name.empty() ? fs::path() : out / video_name;
 
@@ -148,7 +120,7 @@ int run(int argc, char** argv) {
     if (!pose) return ++unregistered, void();
     if (pose->frame() != f.frame()) ++stale_pose;
     view.objects.clear();
-    for (const Item& it : items) {
+    for (const adapters::render::ViewItem& it : items) {
       if (it.kind == "rigid") {
         if (auto b = body.find(it.name); b != body.end())
           view.objects.push_back({it.name, adapters::render::body(b->second, it.size), it.colour});
@@ -240,5 +212,7 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return guarded_main("hcosim_ar_view", [&] { return run(argc, argv); });
+  return service_main("hcosim_ar_view",
+                      "the AR view: draws the scene over each camera frame and writes the video, pictures and plots",
+                      argc, argv, run);
 }

@@ -15,7 +15,7 @@
 
 #include "adapters/json.h"
 #include "services/bench/bench.h"
-#include "services/cli/cli.h"
+#include "services/runtime/participant.h"
 
 namespace fs = std::filesystem;
 
@@ -99,12 +99,14 @@ int report(const fs::path& dir) {
   return 0;
 }
 
-}  // namespace
+struct BenchOptions {
+  std::string which, out;
+  bool quick = false;
+  int domain = -1;  // -1: a domain of its own
+};
 
-int command(const std::vector<std::string>& argv) {
-  const runtime::Args a = runtime::parse(argv, {"--out", "--domain"}, {"--quick"});
-  if (a.positional.size() != 1) throw std::invalid_argument("bench needs one SUITE (or 'all', 'list' or 'report')");
-  const std::string which = a.positional[0];
+int run(const BenchOptions& o) {
+  const std::string& which = o.which;
   if (which == "list") {
     for (const auto& s : suites()) std::cout << s.name << "\t" << s.what << "\n";
     return 0;
@@ -115,18 +117,19 @@ int command(const std::vector<std::string>& argv) {
     names += (names.empty() ? "" : ", ") + std::string(s.name);
     if ((which == "all" && !s.alone) || which == s.name) chosen.push_back(&s);
   }
-  if (!a.has("--out")) throw std::invalid_argument("bench needs --out DIR");
-  const fs::path dir = a.get("--out", "");
+  if (o.out.empty()) throw std::invalid_argument("bench needs --out DIR");
+  const fs::path dir = o.out;
   if (which == "report") return report(dir);
   if (chosen.empty()) throw std::invalid_argument("unknown suite '" + which + "' (suites: " + names + ", all)");
   fs::create_directories(dir);
   Context c;
-  c.quick = a.switches.count("--quick") > 0;
+  c.quick = o.quick;
   // Its own domain unless told: a benchmark must not hear a running deployment.
-  c.domain = a.has("--domain") ? runtime::domain_of(a) : 200 + int(getpid() % 30);
+  c.domain = o.domain >= 0 ? o.domain : 200 + int(getpid() % 30);
   c.out = dir;
-  std::string command = "hcosim bench";
-  for (const auto& arg : argv) command += " " + arg;
+  // The command in its synopsis' order, as the report names it.
+  const std::string command = "hcosim bench " + which + (o.quick ? " --quick" : "") +
+                              (o.domain >= 0 ? " --domain " + std::to_string(o.domain) : "") + " --out " + o.out;
   std::vector<Result> results;
   const auto begin = std::chrono::steady_clock::now();
   const auto since = [](auto t) { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count(); };
@@ -154,6 +157,23 @@ int command(const std::vector<std::string>& argv) {
   for (const Result& r : results)
     if (!r.error.empty()) return 1;
   return 0;
+}
+
+}  // namespace
+
+void add_bench(CLI::App& app, runtime::Command& chosen) {
+  auto o = std::make_shared<BenchOptions>();
+  CLI::App* c = app.add_subcommand("bench",
+                                   "run one benchmark suite or all of them (soak, half an hour, only when named); "
+                                   "write DIR/SUITE.json per suite, its plots, and DIR/index.md, the report "
+                                   "(docs/PERFORMANCE.md); 'list' names the suites, 'report' redraws DIR's report");
+  c->add_option("SUITE|all|list|report", o->which, "what to run")->required();
+  c->add_flag("--quick", o->quick, "shorter runs, for tests");
+  c->add_option("--domain", o->domain, "DDS domain id (default: one of 200..229, of its own)")
+      ->option_text("D")
+      ->check(CLI::Range(0, runtime::kMaxDomain));
+  c->add_option("--out", o->out, "the folder for the figures and the report")->option_text("DIR");
+  c->callback([&chosen, o] { chosen = [o] { return run(*o); }; });
 }
 
 }  // namespace hcosim::services::bench

@@ -12,6 +12,7 @@
 #include <variant>
 #include <vector>
 
+#include "services/runtime/args.h"
 #include "services/runtime/stats.h"
 
 namespace hcosim::services::bench {
@@ -80,11 +81,11 @@ inline void progress(const std::string& line) { std::cerr << "bench: " << line <
 
 // `hcosim bench SUITE|all|list|report ...`: runs suites and writes their
 // report (bench.cc).
-int command(const std::vector<std::string>& argv);
+void add_bench(CLI::App& app, runtime::Command& chosen);
 
 // `hcosim bench-peer ...`, hidden: the far end of the dds suite's round
 // trips (dds.cc, peer.h).
-int peer_command(const std::vector<std::string>& argv);
+void add_peer(CLI::App& app, runtime::Command& chosen);
 
 // Mass-spring integrators and MuJoCo on the same lattices: massspring.cc.
 Suite massspring_suite();

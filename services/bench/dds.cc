@@ -42,7 +42,6 @@
 #include "adapters/validate.h"
 #include "services/bench/bench.h"
 #include "services/bench/peer.h"
-#include "services/cli/cli.h"
 #include "services/runtime/realtime.h"
 #include "services/runtime/service.h"
 
@@ -648,18 +647,22 @@ Suite dds_suite() {
   return s;
 }
 
-int peer_command(const std::vector<std::string>& argv) {
-  const runtime::Args a =
-      runtime::parse(argv, {"--impl", "--domain", "--duration", "--role", "--count", "--out", "--priority"}, {});
-  const int domain = runtime::domain_of(a);
+namespace {
+
+struct PeerOptions {
+  std::string impl, role = "pong", out = "mesh_reader.txt";
+  int domain = 0, priority = 0, count = 0;
+  double duration_s = 60;
+};
+
+int peer(const PeerOptions& o) {
+  const int domain = o.domain;
   // Before any participant, so that Fast DDS's threads get it too.
-  runtime::apply({int(a.whole("--priority", 0, 0, 99)), -1});
-  const std::int64_t end = runtime::mono_ns() + std::int64_t(a.number("--duration", 60) * 1e9);
-  const std::string impl = a.get("--impl", "");
-  if (impl != "bare" && impl != "hcosim") throw std::invalid_argument("bench-peer: --impl must be bare or hcosim");
+  runtime::apply({o.priority, -1});
+  const std::int64_t end = runtime::mono_ns() + std::int64_t(o.duration_s * 1e9);
+  const std::string& impl = o.impl;
   runtime::install_stop_handlers();
-  if (a.get("--role", "pong") == "mesh")
-    return mesh_reader(impl, domain, a.whole("--count", 0, 0, 1000000000), a.get("--out", "mesh_reader.txt"), end);
+  if (o.role == "mesh") return mesh_reader(impl, domain, o.count, o.out, end);
   if (impl == "bare") {
     Bare b = Bare::make<ForceFeedback, HapticState>(domain, "ForceFeedback", "HapticState");
     SampleInfo info;
@@ -674,13 +677,13 @@ int peer_command(const std::vector<std::string>& argv) {
     destroy(b.participant);
     return code;
   }
-  runtime::Options o;
-  o.name = "bench_peer";
-  o.domain = domain;
-  o.rate_hz = 1000;
-  o.step_s = 0.001;
-  o.qos_file = runtime::default_qos_file();
-  runtime::Service svc(o);
+  runtime::Options service;
+  service.name = "bench_peer";
+  service.domain = domain;
+  service.rate_hz = 1000;
+  service.step_s = 0.001;
+  service.qos_file = runtime::default_qos_file();
+  runtime::Service svc(service);
   runtime::Reader<HapticState> r = svc.reader<HapticState>();
   runtime::Writer<ForceFeedback> w = svc.writer<ForceFeedback>();
   Pong p{[&] { return r.wait(std::chrono::milliseconds(100)); },
@@ -691,6 +694,24 @@ int peer_command(const std::vector<std::string>& argv) {
          },
          [&](ForceFeedback& f) { w.write(f); }};
   return pong_loop(p, end);
+}
+
+}  // namespace
+
+void add_peer(CLI::App& app, runtime::Command& chosen) {
+  auto o = std::make_shared<PeerOptions>();
+  CLI::App* c = app.add_subcommand("bench-peer", "the far end of the dds suite's round trips")->group("");
+  c->add_option("--impl", o->impl, "bare Fast DDS or hcosim's endpoints")
+      ->required()
+      ->check(CLI::IsMember({"bare", "hcosim"}));
+  c->add_option("--role", o->role, "answer round trips (pong) or read meshes (mesh)")
+      ->check(CLI::IsMember({"pong", "mesh"}));
+  runtime::add_domain(*c, o->domain);
+  c->add_option("--duration", o->duration_s, "run time, s")->check(runtime::within(0, 1e6));
+  c->add_option("--count", o->count, "meshes to read")->check(CLI::Range(0, 1000000000));
+  c->add_option("--out", o->out, "what the mesh reader saw");
+  c->add_option("--priority", o->priority, "SCHED_FIFO priority (0: normal)")->check(CLI::Range(0, 99));
+  c->callback([&chosen, o] { chosen = [o] { return peer(*o); }; });
 }
 
 }  // namespace hcosim::services::bench

@@ -1,29 +1,24 @@
-// Subcommands of the hcosim command-line tool.
+// Subcommands of the hcosim command-line tool. Each add_NAME defines its
+// command on the tool's CLI11 app (options, help) and, when the command
+// line chooses it, sets `chosen` to run it.
 #pragma once
-
-#include <string>
-#include <vector>
 
 #include "services/runtime/args.h"
 
 namespace hcosim::services::cli {
 
-using runtime::Args;
-using runtime::domain_of;
-using runtime::parse;
-using runtime::security_of;
-using runtime::topics_of;
+using runtime::Command;
 
-int up(const std::vector<std::string>& argv);
-int topics(const std::vector<std::string>& argv);
-int echo(const std::vector<std::string>& argv);
-int hz(const std::vector<std::string>& argv);
-int record(const std::vector<std::string>& argv);
-int track(const std::vector<std::string>& argv);
-int synth(const std::vector<std::string>& argv);
-int video(const std::vector<std::string>& argv);
-int export_recording(const std::vector<std::string>& argv);
-int replay(const std::vector<std::string>& argv);
-int security(const std::vector<std::string>& argv);
+void add_up(CLI::App& app, Command& chosen);
+void add_topics(CLI::App& app, Command& chosen);
+void add_echo(CLI::App& app, Command& chosen);
+void add_hz(CLI::App& app, Command& chosen);
+void add_record(CLI::App& app, Command& chosen);
+void add_export(CLI::App& app, Command& chosen);
+void add_replay(CLI::App& app, Command& chosen);
+void add_track(CLI::App& app, Command& chosen);
+void add_synth(CLI::App& app, Command& chosen);
+void add_video(CLI::App& app, Command& chosen);
+void add_security(CLI::App& app, Command& chosen);
 
 }  // namespace hcosim::services::cli

@@ -11,35 +11,27 @@
 namespace hcosim::services::cli {
 namespace {
 
-std::string known_topics() {
-  std::string out;
-  runtime::for_each_topic([&](auto tag) {
-    out += (out.empty() ? "" : ", ") + std::string(runtime::TopicOf<typename decltype(tag)::type>::name);
-  });
-  return out;
-}
+// What echo and hz were asked.
+struct TopicOptions {
+  std::string topic;
+  double count = 0, timeout_s = 0, duration_s = 0;
+  runtime::DdsOptions dds;
+};
 
-// Calls f(TypeTag) for the topic named by the single positional argument.
+// Calls f(TypeTag) for the topic's type (checked by the command line).
 template <class F>
-int for_topic(const Args& a, const char* cmd, F&& f) {
-  if (a.positional.size() != 1) throw std::invalid_argument(std::string(cmd) + " needs exactly one TOPIC");
+int for_topic(const std::string& topic, F&& f) {
   int code = 0;
-  if (!runtime::with_topic(a.positional[0], [&](auto tag) { code = f(tag); }))
-    throw std::invalid_argument("unknown topic '" + a.positional[0] + "' (known: " + known_topics() + ")");
+  runtime::with_topic(topic, [&](auto tag) { code = f(tag); });
   return code;
 }
 
-}  // namespace
-
-int echo(const std::vector<std::string>& argv) {
-  const Args a = parse(argv, {"--count", "--timeout", "--domain", "--security", "--identity"}, {});
-  const double count = a.number("--count", 0);
-  const double timeout = a.number("--timeout", 0);
-  if (count < 0 || timeout < 0) throw std::invalid_argument("--count and --timeout must not be negative");
-  return for_topic(a, "echo", [&](auto tag) {
+int echo(const TopicOptions& o) {
+  const double count = o.count, timeout = o.timeout_s;
+  return for_topic(o.topic, [&](auto tag) {
     using T = typename decltype(tag)::type;
     runtime::install_stop_handlers();
-    runtime::Participant p(domain_of(a), "hcosim_echo", runtime::default_qos_file(), nullptr, false, security_of(a));
+    runtime::Participant p(o.dds.domain, "hcosim_echo", runtime::default_qos_file(), nullptr, false, o.dds.security);
     // No validation: echo shows what is on the wire, bad samples included.
     runtime::Reader<T> reader(p);
     const std::int64_t deadline = timeout > 0 ? runtime::mono_ns() + std::int64_t(timeout * 1e9) : INT64_MAX;
@@ -55,22 +47,20 @@ int echo(const std::vector<std::string>& argv) {
       std::fflush(stdout);
     }
     if (count > 0 && seen < count && !runtime::stop_requested()) {
-      std::cerr << "hcosim echo: " << seen << " of " << count << " samples of " << a.positional[0] << " on domain "
-                << domain_of(a) << " within " << timeout << " s\n";
+      std::cerr << "hcosim echo: " << seen << " of " << count << " samples of " << o.topic << " on domain "
+                << o.dds.domain << " within " << timeout << " s\n";
       return 1;
     }
     return 0;
   });
 }
 
-int hz(const std::vector<std::string>& argv) {
-  const Args a = parse(argv, {"--duration", "--domain", "--security", "--identity"}, {});
-  const double duration = a.number("--duration", 0);
-  if (duration < 0) throw std::invalid_argument("--duration must not be negative");
-  return for_topic(a, "hz", [&](auto tag) {
+int hz(const TopicOptions& o) {
+  const double duration = o.duration_s;
+  return for_topic(o.topic, [&](auto tag) {
     using T = typename decltype(tag)::type;
     runtime::install_stop_handlers();
-    runtime::Participant p(domain_of(a), "hcosim_hz", runtime::default_qos_file(), nullptr, false, security_of(a));
+    runtime::Participant p(o.dds.domain, "hcosim_hz", runtime::default_qos_file(), nullptr, false, o.dds.security);
     runtime::Reader<T> reader(p);
     const std::int64_t start = runtime::mono_ns();
     const std::int64_t end = duration > 0 ? start + std::int64_t(duration * 1e9) : INT64_MAX;
@@ -79,11 +69,11 @@ int hz(const std::vector<std::string>& argv) {
     std::int64_t first = 0, last = 0, next_report = start + 1'000'000'000;
     auto report = [&] {
       if (total < 2) {
-        std::printf("%s: %llu samples\n", a.positional[0].c_str(), static_cast<unsigned long long>(total));
+        std::printf("%s: %llu samples\n", o.topic.c_str(), static_cast<unsigned long long>(total));
       } else {
         const double rate = double(total - 1) * 1e9 / double(last - first);
-        std::printf("%s: %.2f Hz over %llu samples, period p50 %.3f ms p99 %.3f ms max %.3f ms\n",
-                    a.positional[0].c_str(), rate, static_cast<unsigned long long>(total), periods_ms.percentile(0.5),
+        std::printf("%s: %.2f Hz over %llu samples, period p50 %.3f ms p99 %.3f ms max %.3f ms\n", o.topic.c_str(),
+                    rate, static_cast<unsigned long long>(total), periods_ms.percentile(0.5),
                     periods_ms.percentile(0.99), periods_ms.percentile(1.0));
       }
       std::fflush(stdout);
@@ -107,6 +97,33 @@ int hz(const std::vector<std::string>& argv) {
     report();
     return total >= 2 ? 0 : 1;
   });
+}
+
+}  // namespace
+
+void add_echo(CLI::App& app, Command& chosen) {
+  auto o = std::make_shared<TopicOptions>();
+  CLI::App* c = app.add_subcommand("echo", "print samples of one of hcosim's topics as JSON lines");
+  c->add_option("TOPIC", o->topic, "topic name (docs/topics.md)")->required()->check(runtime::topic_name());
+  c->add_option("--count", o->count, "stop after N samples (0: until Ctrl-C); fewer within --timeout fail")
+      ->option_text("N")
+      ->check(runtime::within(0, 1e12));
+  c->add_option("--timeout", o->timeout_s, "give up after S seconds (0: never)")
+      ->option_text("S")
+      ->check(runtime::within(0, 1e9));
+  runtime::add_dds(*c, o->dds);
+  c->callback([&chosen, o] { chosen = [o] { return echo(*o); }; });
+}
+
+void add_hz(CLI::App& app, Command& chosen) {
+  auto o = std::make_shared<TopicOptions>();
+  CLI::App* c = app.add_subcommand("hz", "measure the rate at which a topic's samples arrive");
+  c->add_option("TOPIC", o->topic, "topic name (docs/topics.md)")->required()->check(runtime::topic_name());
+  c->add_option("--duration", o->duration_s, "measure for S seconds (0: report each second until Ctrl-C)")
+      ->option_text("S")
+      ->check(runtime::within(0, 1e9));
+  runtime::add_dds(*c, o->dds);
+  c->callback([&chosen, o] { chosen = [o] { return hz(*o); }; });
 }
 
 }  // namespace hcosim::services::cli

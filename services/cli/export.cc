@@ -65,20 +65,14 @@ std::string csv_field(const std::string& s) {
   return q + "\"";
 }
 
-}  // namespace
+struct ExportOptions {
+  std::string file, topic, format = "jsonl";
+  bool wall = false;
+};
 
-int export_recording(const std::vector<std::string>& argv) {
-  const Args a = parse(argv, {"--topic", "--format"}, {"--wall"});
-  if (a.positional.size() != 1 || !a.has("--topic"))
-    throw std::invalid_argument("usage: hcosim export FILE --topic TOPIC [--format jsonl|csv] [--wall]");
-  const std::string topic = a.get("--topic", ""), format = a.get("--format", "jsonl");
-  if (format != "jsonl" && format != "csv")
-    throw std::invalid_argument("--format must be jsonl or csv, not '" + format + "'");
-  bool known = false;
-  runtime::with_topic(topic, [&](auto) { known = true; });
-  if (!known) throw std::invalid_argument("unknown topic '" + topic + "'");
-
-  runtime::RecordingReader in(a.positional[0]);
+int export_recording(const ExportOptions& o) {
+  const std::string &topic = o.topic, &format = o.format;
+  runtime::RecordingReader in(o.file);
   std::vector<runtime::Record> records;
   std::vector<Key> keys;
   std::uint64_t total = 0;
@@ -103,7 +97,7 @@ int export_recording(const std::vector<std::string>& argv) {
       using T = typename decltype(tag)::type;
       sample = adapters::json_of(runtime::from_cdr<T>(r.cdr));
     });
-    if (!a.has("--wall")) drop_wall_times(sample);
+    if (!o.wall) drop_wall_times(sample);
     if (format == "jsonl") {
       std::printf("%s\n", adapters::json_line(sample).c_str());
       continue;
@@ -119,37 +113,38 @@ int export_recording(const std::vector<std::string>& argv) {
     for (std::size_t c = 0; c < cells.size(); ++c) row += (c ? "," : "") + csv_field(cells[c].second);
     std::printf("%s\n", row.c_str());
   }
-  std::cerr << "hcosim export: " << records.size() << " " << topic << " samples of " << total << " in "
-            << a.positional[0] << "\n";
+  std::cerr << "hcosim export: " << records.size() << " " << topic << " samples of " << total << " in " << o.file
+            << "\n";
   return 0;
 }
 
-int replay(const std::vector<std::string>& argv) {
-  const Args a = parse(argv, {"--topics", "--speed", "--domain", "--security", "--identity", "--clock", "--wait"}, {});
-  if (a.positional.size() != 1)
-    throw std::invalid_argument(
-        "usage: hcosim replay REC [--topics T1,T2] [--speed X] [--clock sim|receive] [--wait S] [--domain D]");
-  const double wait_s = a.number("--wait", 10);
-  if (!(wait_s >= 0 && wait_s <= 3600)) throw std::invalid_argument("--wait must be in [0, 3600] s");
-  const std::string clock = a.get("--clock", "sim");
-  if (clock != "sim" && clock != "receive") throw std::invalid_argument("--clock must be sim or receive");
+struct ReplayOptions {
+  std::string file;
+  std::vector<std::string> topics;  // none: every topic
+  double speed = 1, wait_s = 10;
+  std::string clock = "sim";
+  runtime::DdsOptions dds;
+};
+
+int replay(const ReplayOptions& o) {
+  const double wait_s = o.wait_s;
+  const std::string& clock = o.clock;
   // The schedule: simulated time (a lockstep run plays back at its own
   // pace, not the pace its machine ran it at), or the receive times.
   const auto at = [&](const runtime::Record& r) { return clock == "sim" ? r.sim_time_ns : r.receive_ns; };
-  const double speed = a.number("--speed", 1);
-  if (!(speed > 0 && speed <= 1000)) throw std::invalid_argument("--speed must be in (0, 1000]");
-  const std::vector<std::string> topics = topics_of(a);
-  runtime::RecordingReader in(a.positional[0]);
+  const double speed = o.speed;
+  const std::vector<std::string>& topics = o.topics;
+  runtime::RecordingReader in(o.file);
   std::vector<runtime::Record> records;
   for (runtime::Record r; in.next(r);)
     if (topics.empty() || std::find(topics.begin(), topics.end(), r.topic) != topics.end())
       records.push_back(std::move(r));
-  if (records.empty()) throw std::runtime_error(a.positional[0] + ": no sample of the chosen topics");
+  if (records.empty()) throw std::runtime_error(o.file + ": no sample of the chosen topics");
   std::stable_sort(records.begin(), records.end(),
                    [&](const runtime::Record& x, const runtime::Record& y) { return at(x) < at(y); });
 
   runtime::install_stop_handlers();
-  runtime::Participant p(domain_of(a), "hcosim_replay", runtime::default_qos_file(), nullptr, false, security_of(a));
+  runtime::Participant p(o.dds.domain, "hcosim_replay", runtime::default_qos_file(), nullptr, false, o.dds.security);
   // One writer per topic, made before the first sample so readers can match.
   std::map<std::string, std::function<void(const runtime::Record&)>> write;
   std::map<std::string, std::function<int()>> matched;
@@ -191,6 +186,43 @@ int replay(const std::vector<std::string>& argv) {
   }
   std::cerr << "hcosim replay: published " << sent << " samples" << std::endl;
   return 0;
+}
+
+}  // namespace
+
+void add_export(CLI::App& app, Command& chosen) {
+  auto o = std::make_shared<ExportOptions>();
+  CLI::App* c = app.add_subcommand("export", "print one topic of a recording, one sample a line, in step order");
+  c->add_option("REC", o->file, "the recording")->required();
+  c->add_option("--topic", o->topic, "the topic to print")
+      ->option_text("TOPIC")
+      ->required()
+      ->check(runtime::topic_name());
+  c->add_option("--format", o->format, "JSON lines (default) or CSV, one column per field")
+      ->option_text("jsonl|csv")
+      ->check(CLI::IsMember({"jsonl", "csv"}).description(""));
+  c->add_flag("--wall", o->wall, "keep the wall-clock times, which differ from run to run");
+  c->callback([&chosen, o] { chosen = [o] { return export_recording(*o); }; });
+}
+
+void add_replay(CLI::App& app, Command& chosen) {
+  auto o = std::make_shared<ReplayOptions>();
+  CLI::App* c = app.add_subcommand("replay",
+                                   "publish a recording's samples again on their simulated-time schedule (or the one "
+                                   "they were received on)");
+  c->add_option("REC", o->file, "the recording")->required();
+  runtime::add_topic_list(*c, o->topics);
+  c->add_option("--speed", o->speed, "play X times as fast (default 1)")
+      ->option_text("X")
+      ->check(runtime::within(1e-6, 1000));
+  c->add_option("--clock", o->clock, "schedule by simulated time (default) or by receive time")
+      ->option_text("sim|receive")
+      ->check(CLI::IsMember({"sim", "receive"}).description(""));
+  c->add_option("--wait", o->wait_s, "wait up to S seconds for a reader of every topic (default 10)")
+      ->option_text("S")
+      ->check(runtime::within(0, 3600));
+  runtime::add_dds(*c, o->dds);
+  c->callback([&chosen, o] { chosen = [o] { return replay(*o); }; });
 }
 
 }  // namespace hcosim::services::cli

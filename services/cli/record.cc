@@ -15,46 +15,43 @@ namespace hcosim::services::cli {
 
 namespace {
 
+struct RecordOptions {
+  std::string file;                 // a recording, or
+  std::string out, device;          // a CSV trajectory of one device (all: "")
+  std::vector<std::string> topics;  // none: every topic
+  double duration_s = 0;
+  runtime::DdsOptions dds;
+};
+
 // hcosim record FILE: every sample of the chosen topics (all by default)
 // into a recording (docs/recording.md).
-int record_topics(const Args& a) {
-  if (a.positional.size() != 1 || a.has("--out") || a.has("--device"))
-    throw std::invalid_argument("usage: hcosim record FILE [--topics T1,T2] [--duration S] [--domain D]");
-  const std::vector<std::string> topics = topics_of(a);
-  const double duration = a.number("--duration", 0);
-  if (duration < 0) throw std::invalid_argument("--duration must not be negative");
+int record_topics(const RecordOptions& o) {
+  const std::vector<std::string>& topics = o.topics;
+  const double duration = o.duration_s;
   runtime::install_stop_handlers();
-  runtime::Participant p(domain_of(a), "hcosim_record", runtime::default_qos_file(), nullptr, false, security_of(a));
-  runtime::Recorder recorder(p, a.positional[0], topics);
+  runtime::Participant p(o.dds.domain, "hcosim_record", runtime::default_qos_file(), nullptr, false, o.dds.security);
+  runtime::Recorder recorder(p, o.file, topics);
   const std::int64_t end = duration > 0 ? runtime::mono_ns() + std::int64_t(duration * 1e9) : INT64_MAX;
   while (!runtime::stop_requested() && runtime::mono_ns() < end) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   recorder.close();
-  std::cerr << "hcosim record: " << recorder.samples() << " samples to " << a.positional[0] << "\n";
+  std::cerr << "hcosim record: " << recorder.samples() << " samples to " << o.file << "\n";
   if (const std::string lost = recorder.losses(); !lost.empty())
     std::cerr << "hcosim record: samples Fast DDS reports the recording never received: " << lost << "\n";
   return 0;
 }
 
-}  // namespace
-
-int record(const std::vector<std::string>& argv) {
-  const Args a =
-      parse(argv, {"--out", "--device", "--duration", "--domain", "--security", "--identity", "--topics"}, {});
-  if (!a.positional.empty()) return record_topics(a);
-  const std::string out = a.get("--out", "");
-  if (out.empty())
-    throw std::invalid_argument("record needs FILE (a recording) or --out FILE.csv (a haptic trajectory)");
-  const std::string device = a.get("--device", "");
-  const double duration = a.number("--duration", 0);
-  if (duration < 0) throw std::invalid_argument("--duration must not be negative");
+// hcosim record --out FILE.csv: one device's stylus trajectory.
+int record_trajectory(const RecordOptions& o) {
+  const std::string &out = o.out, &device = o.device;
+  const double duration = o.duration_s;
   std::ofstream csv(out);
   if (!csv) throw std::runtime_error(out + ": cannot be written");
   csv.precision(9);
   csv << "time_s,x,y,z,buttons\n";
   runtime::install_stop_handlers();
-  runtime::Participant p(domain_of(a), "hcosim_record", runtime::default_qos_file(), nullptr, false, security_of(a));
+  runtime::Participant p(o.dds.domain, "hcosim_record", runtime::default_qos_file(), nullptr, false, o.dds.security);
   runtime::Reader<HapticState> reader(p, [](const HapticState& s) { return adapters::validate(s); });
   const std::int64_t end = duration > 0 ? runtime::mono_ns() + std::int64_t(duration * 1e9) : INT64_MAX;
   std::uint64_t n = 0;
@@ -74,6 +71,31 @@ int record(const std::vector<std::string>& argv) {
   if (!csv) throw std::runtime_error(out + ": write failed");
   std::cerr << "hcosim record: " << n << " samples to " << out << "\n";
   return n > 0 ? 0 : 1;
+}
+
+}  // namespace
+
+void add_record(CLI::App& app, Command& chosen) {
+  auto o = std::make_shared<RecordOptions>();
+  CLI::App* c = app.add_subcommand("record",
+                                   "record topics (all by default) into a recording REC (docs/recording.md), or with "
+                                   "--out write a haptic device's HapticState as a trajectory the replay device plays");
+  CLI::Option* file = c->add_option("REC", o->file, "the recording to write");
+  runtime::add_topic_list(*c, o->topics);
+  c->add_option("--duration", o->duration_s, "record for S seconds (0: until Ctrl-C)")
+      ->option_text("S")
+      ->check(runtime::within(0, 1e9));
+  runtime::add_dds(*c, o->dds);
+  CLI::Option* out = c->add_option("--out", o->out, "the trajectory to write, CSV")->option_text("FILE.csv");
+  c->add_option("--device", o->device, "the device whose trajectory to write (default: any)")
+      ->option_text("NAME")
+      ->needs(out);
+  file->excludes(out);
+  c->callback([&chosen, o] {
+    if (o->file.empty() && o->out.empty())
+      throw CLI::ValidationError("record needs REC (a recording) or --out FILE.csv (a haptic trajectory)");
+    chosen = [o] { return o->out.empty() ? record_topics(*o) : record_trajectory(*o); };
+  });
 }
 
 }  // namespace hcosim::services::cli

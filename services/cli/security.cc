@@ -151,22 +151,25 @@ std::set<std::string> names_in(const std::string& list, const char* flag) {
   return out;
 }
 
-int init(const Args& a) {
-  if (a.positional.size() > 1) throw std::invalid_argument("security init takes one DIR");
+struct InitOptions {
+  std::string dir, deployment, identities, readers, protection = "data";
+  int days = 365;
+  bool force = false, keep = false;
+};
+
+int init(const InitOptions& o) {
   runtime::Deployment d;
-  if (a.has("--deployment")) d = runtime::load_deployment(a.get("--deployment", ""));
-  std::string dir = a.positional.empty() ? d.security : a.positional[0];
+  if (!o.deployment.empty()) d = runtime::load_deployment(o.deployment);
+  const std::string dir = o.dir.empty() ? d.security : o.dir;
   if (dir.empty())
     throw std::invalid_argument("security init needs a DIR, or a --deployment FILE with a 'security' section");
-  const std::string protection = a.get("--protection", "data");
-  if (protection != "data" && protection != "all")
-    throw std::invalid_argument("--protection must be 'data' or 'all', not '" + protection + "'");
-  const int days = a.whole("--days", 365, 1, 36500);
+  const std::string& protection = o.protection;
+  const int days = o.days;
 
   // Who gets a certificate: the tools, the lockstep clock, every service of
   // the deployment, and whoever is named.
-  std::set<std::string> full = names_in(a.get("--identities", ""), "--identities");
-  const std::set<std::string> readers = names_in(a.get("--readers", ""), "--readers");
+  std::set<std::string> full = names_in(o.identities, "--identities");
+  const std::set<std::string> readers = names_in(o.readers, "--readers");
   full.insert(runtime::kToolIdentity);
   if (!d.file.empty()) {
     full.insert("clock");
@@ -176,11 +179,11 @@ int init(const Args& a) {
     if (full.count(r)) throw std::invalid_argument("--readers: '" + r + "' is also a publishing identity");
 
   if (fs::exists(runtime::ca_file(dir))) {
-    if (a.has("--keep")) {
+    if (o.keep) {
       std::cout << "hcosim security: keeping the credentials in " << dir << "\n";
       return 0;
     }
-    if (!a.has("--force"))
+    if (!o.force)
       throw std::invalid_argument(dir + " already holds a CA (" + runtime::ca_file(dir) +
                                   "); --force replaces everything in it, --keep keeps it, or choose another folder");
     for (const auto& f : {runtime::ca_file(dir), runtime::ca_key_file(dir), runtime::governance_file(dir),
@@ -233,15 +236,28 @@ int init(const Args& a) {
 
 }  // namespace
 
-int security(const std::vector<std::string>& argv) {
-  if (argv.empty() || argv[0] != "init")
-    throw std::invalid_argument(
-        "usage: hcosim security init [DIR] [--deployment FILE] [--identities A,B] [--readers R] [--protection "
-        "data|all] [--days N] [--force|--keep]");
-  const Args a = parse({argv.begin() + 1, argv.end()},
-                       {"--deployment", "--identities", "--readers", "--protection", "--days"}, {"--force", "--keep"});
-  if (a.has("--force") && a.has("--keep")) throw std::invalid_argument("--force and --keep exclude each other");
-  return init(a);
+void add_security(CLI::App& app, Command& chosen) {
+  auto o = std::make_shared<InitOptions>();
+  CLI::App* security = app.add_subcommand("security", "DDS Security credentials (docs/security.md)");
+  security->require_subcommand(1);
+  CLI::App* c = security->add_subcommand(
+      "init",
+      "make a test CA, a certificate per service of FILE (and for the tools, the clock and A, B; R may only "
+      "subscribe) and signed governance and permissions documents in DIR, else FILE's security dir; a DIR that "
+      "holds a CA is replaced with --force, kept with --keep; --protection all also encrypts every RTPS message, "
+      "not only payloads and discovery");
+  c->add_option("DIR", o->dir, "the folder to write (default: the deployment's security dir)");
+  c->add_option("--deployment", o->deployment, "a certificate for each of its services, and its domain")
+      ->option_text("FILE");
+  c->add_option("--identities", o->identities, "more publishing identities, comma-separated")->option_text("A,B");
+  c->add_option("--readers", o->readers, "subscribe-only identities, comma-separated")->option_text("R");
+  c->add_option("--protection", o->protection, "what is encrypted (default data)")
+      ->option_text("data|all")
+      ->check(CLI::IsMember({"data", "all"}).description(""));
+  c->add_option("--days", o->days, "validity, days (default 365)")->option_text("N")->check(CLI::Range(1, 36500));
+  CLI::Option* force = c->add_flag("--force", o->force, "replace the credentials in DIR");
+  c->add_flag("--keep", o->keep, "keep the credentials in DIR")->excludes(force);
+  c->callback([&chosen, o] { chosen = [o] { return init(*o); }; });
 }
 
 }  // namespace hcosim::services::cli

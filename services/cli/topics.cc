@@ -54,17 +54,17 @@ class Discovery : public DomainParticipantListener {
   std::map<std::string, Entry> topics_;
 };
 
-}  // namespace
+struct TopicsOptions {
+  double wait_s = 2;
+  runtime::DdsOptions dds;
+};
 
-int topics(const std::vector<std::string>& argv) {
-  const Args a = parse(argv, {"--domain", "--security", "--identity", "--wait"}, {});
-  if (!a.positional.empty()) throw std::invalid_argument("topics takes no positional argument");
-  const double wait = a.number("--wait", 2.0);
-  if (wait <= 0 || wait > 600) throw std::invalid_argument("--wait must be in (0, 600] s");
+int topics(const TopicsOptions& o) {
+  const double wait = o.wait_s;
   Discovery discovery;
   {
-    runtime::Participant p(domain_of(a), "hcosim_topics", runtime::default_qos_file(), &discovery, false,
-                           security_of(a));
+    runtime::Participant p(o.dds.domain, "hcosim_topics", runtime::default_qos_file(), &discovery, false,
+                           o.dds.security);
     std::this_thread::sleep_for(std::chrono::duration<double>(wait));
     p.dds()->set_listener(nullptr);
   }
@@ -72,8 +72,20 @@ int topics(const std::vector<std::string>& argv) {
   std::printf("%-24s %-28s %7s %7s\n", "TOPIC", "TYPE", "WRITERS", "READERS");
   for (const auto& [name, e] : topics)
     std::printf("%-24s %-28s %7d %7d\n", name.c_str(), e.type.c_str(), e.writers, e.readers);
-  if (topics.empty()) std::printf("(no topics seen on domain %d within %.1f s)\n", domain_of(a), wait);
+  if (topics.empty()) std::printf("(no topics seen on domain %d within %.1f s)\n", o.dds.domain, wait);
   return 0;
+}
+
+}  // namespace
+
+void add_topics(CLI::App& app, Command& chosen) {
+  auto o = std::make_shared<TopicsOptions>();
+  CLI::App* c = app.add_subcommand("topics", "list the topics and types seen on a domain");
+  c->add_option("--wait", o->wait_s, "listen for S seconds (default 2)")
+      ->option_text("S")
+      ->check(runtime::within(0.001, 600));
+  runtime::add_dds(*c, o->dds);
+  c->callback([&chosen, o] { chosen = [o] { return topics(*o); }; });
 }
 
 }  // namespace hcosim::services::cli

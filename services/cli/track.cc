@@ -82,32 +82,19 @@ std::pair<int, int> parse_resolution(const std::string& s) {
   return {w, h};
 }
 
-const char* kTrackUsage =
-    "usage: hcosim track --source VIDEO_OR_FOLDER --camera INTRINSICS.yaml --tag-size METRES --out POSES.jsonl\n"
-    "                    [--family tag36h11] [--decimate 1.5] [--sigma 0] [--threads 1] [--truth TRUTH.jsonl]\n";
+struct TrackOptions {
+  std::string source, camera, out, truth;
+  TrackerParams tracker;
+};
 
-}  // namespace
-
-int track(const std::vector<std::string>& argv) {
-  const Args a = parse(
-      argv,
-      {"--source", "--camera", "--tag-size", "--out", "--family", "--decimate", "--sigma", "--threads", "--truth"}, {});
-  for (const char* f : {"--source", "--camera", "--tag-size", "--out"})
-    if (!a.has(f)) throw std::invalid_argument(std::string("track needs ") + f + "\n" + kTrackUsage);
-  if (!a.positional.empty())
-    throw std::invalid_argument("track takes no positional argument\n" + std::string(kTrackUsage));
-  TrackerParams p;
-  p.tag_size = a.number("--tag-size", 0);
-  p.detector.family = a.get("--family", p.detector.family);
-  p.detector.quad_decimate = a.number("--decimate", p.detector.quad_decimate);
-  p.detector.quad_sigma = a.number("--sigma", p.detector.quad_sigma);
-  p.detector.nthreads = a.whole("--threads", p.detector.nthreads, 1, 64);
+int track(const TrackOptions& o) {
+  const TrackerParams& p = o.tracker;
   check(p);
-  const std::string camera_file = a.get("--camera", "");
+  const std::string& camera_file = o.camera;
   Intrinsics k = adapters::vision::read_intrinsics(camera_file);
-  const auto truth = a.has("--truth") ? read_poses(a.get("--truth", "")) : decltype(read_poses("")){};
-  std::unique_ptr<adapters::vision::Source> source = adapters::vision::open_path(a.get("--source", ""));
-  const std::string out_path = a.get("--out", "");
+  const auto truth = o.truth.empty() ? decltype(read_poses("")){} : read_poses(o.truth);
+  std::unique_ptr<adapters::vision::Source> source = adapters::vision::open_path(o.source);
+  const std::string& out_path = o.out;
   std::ofstream out(out_path);
   if (!out) throw std::runtime_error(out_path + ": cannot be written");
   std::cerr << "track: " << source->describe() << std::endl;
@@ -139,14 +126,14 @@ int track(const std::vector<std::string>& argv) {
     if (seen.empty() && ++misses <= kNamedMisses)
       std::cerr << "track: frame " << f.index << ": no " << p.detector.family << " tag found" << std::endl;
     with_tag += !seen.empty();
-    for (const Observation& o : seen) {
+    for (const Observation& tag : seen) {
       ++detections;
-      out << pose_line(f.index, o.detection.id, o.pose.tag_in_camera, o.pose.reprojection_error_px) << '\n';
-      const auto t = truth.find({f.index, o.detection.id});
+      out << pose_line(f.index, tag.detection.id, tag.pose.tag_in_camera, tag.pose.reprojection_error_px) << '\n';
+      const auto t = truth.find({f.index, tag.detection.id});
       if (t == truth.end()) continue;
-      trans.add(100 * (o.pose.tag_in_camera.translation() - t->second.translation()).norm() /
+      trans.add(100 * (tag.pose.tag_in_camera.translation() - t->second.translation()).norm() /
                 t->second.translation().norm());
-      rot.add(angle_between(o.pose.tag_in_camera.linear(), t->second.linear()) * 180 / M_PI);
+      rot.add(angle_between(tag.pose.tag_in_camera.linear(), t->second.linear()) * 180 / M_PI);
     }
     if (runtime::mono_ns() - last_progress > 2'000'000'000) {
       last_progress = runtime::mono_ns();
@@ -166,8 +153,8 @@ int track(const std::vector<std::string>& argv) {
     std::printf(
         "track: against %s: %zu of %zu true poses detected; translation error p50 %.3f%% p95 %.3f%% of "
         "distance, rotation error p50 %.3f deg p95 %.3f deg\n",
-        a.get("--truth", "").c_str(), trans.size(), truth.size(), trans.percentile(0.5), trans.percentile(0.95),
-        rot.percentile(0.5), rot.percentile(0.95));
+        o.truth.c_str(), trans.size(), truth.size(), trans.percentile(0.5), trans.percentile(0.95), rot.percentile(0.5),
+        rot.percentile(0.95));
   if (detections == 0) {
     std::cerr << "track: no tag in any frame: is the family (" << p.detector.family
               << ") right, and the tag whole and in focus?" << std::endl;
@@ -176,31 +163,28 @@ int track(const std::vector<std::string>& argv) {
   return 0;
 }
 
-int synth(const std::vector<std::string>& argv) {
-  const Args a =
-      parse(argv, {"--out", "--frames", "--rate", "--resolution", "--condition", "--family", "--tag-id", "--tag-size"},
-            {"--video"});
-  if (!a.has("--out"))
-    throw std::invalid_argument(
-        "usage: hcosim synth --out DIR [--frames 60] [--rate 30] [--resolution 640x480] [--condition clean|noisy|"
-        "blurred] [--family tag36h11] [--tag-id 0] [--tag-size 0.05] [--video]");
-  const auto [w, h] = parse_resolution(a.get("--resolution", "640x480"));
-  const int n = a.whole("--frames", 60, 1, 100000);
-  const double rate = a.number("--rate", 30);
-  Marker m;
-  m.family = a.get("--family", m.family);
-  m.id = a.whole("--tag-id", m.id, 0, 1000000);
-  m.tag_size = a.number("--tag-size", m.tag_size);
+struct SynthOptions {
+  std::string out, resolution = "640x480", condition = "clean";
+  int frames = 60;
+  double rate = 30;
+  Marker marker;
+  bool video = false;
+};
+
+int synth(const SynthOptions& o) {
+  const auto [w, h] = parse_resolution(o.resolution);
+  const int n = o.frames;
+  const double rate = o.rate;
+  const Marker& m = o.marker;
   const Intrinsics k = synthetic_intrinsics(w, h);
-  adapters::vision::SyntheticSource source(SyntheticCamera(k, m), condition(a.get("--condition", "clean")), rate,
-                                           std::uint64_t(n));
-  const fs::path dir = a.get("--out", "");
+  adapters::vision::SyntheticSource source(SyntheticCamera(k, m), condition(o.condition), rate, std::uint64_t(n));
+  const fs::path dir = o.out;
   fs::create_directories(dir / "frames");
   adapters::vision::write_intrinsics((dir / "camera.yaml").string(), k);
   std::ofstream truth(dir / "truth.jsonl");
   if (!truth) throw std::runtime_error((dir / "truth.jsonl").string() + ": cannot be written");
   cv::VideoWriter video;
-  if (a.has("--video")) {
+  if (o.video) {
     // Motion JPEG: OpenCV encodes it itself, whatever codecs the system has.
     video.open((dir / "video.avi").string(), cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), rate, cv::Size(w, h), false);
     if (!video.isOpened()) throw std::runtime_error((dir / "video.avi").string() + ": cannot be written");
@@ -226,10 +210,7 @@ int synth(const std::vector<std::string>& argv) {
   return 0;
 }
 
-int video(const std::vector<std::string>& argv) {
-  const Args a = parse(argv, {}, {});
-  if (a.positional.size() != 1) throw std::invalid_argument("usage: hcosim video FILE");
-  const std::string path = a.positional[0];
+int video(const std::string& path) {
   if (!fs::is_regular_file(path)) throw std::runtime_error(path + ": no such file");
   cv::VideoCapture cap(path, cv::CAP_FFMPEG);
   if (!cap.isOpened()) cap.open(path);
@@ -254,6 +235,64 @@ int video(const std::vector<std::string>& argv) {
               int(cap.get(cv::CAP_PROP_FRAME_HEIGHT)), cap.get(cv::CAP_PROP_FPS), (unsigned long long)blank,
               (unsigned long long)(frames - blank));
   return frames ? 0 : 1;
+}
+
+}  // namespace
+
+void add_track(CLI::App& app, Command& chosen) {
+  auto o = std::make_shared<TrackOptions>();
+  DetectorParams& d = o->tracker.detector;
+  CLI::App* c = app.add_subcommand("track",
+                                   "detect AprilTags in a video or an image folder, one JSON line per detection; with "
+                                   "--truth, the errors against known poses");
+  c->add_option("--source", o->source, "a video file or a folder of images")
+      ->option_text("VIDEO_OR_FOLDER")
+      ->required();
+  c->add_option("--camera", o->camera, "the camera's intrinsics (OpenCV YAML; docs/tracking.md)")
+      ->option_text("INTRINSICS.yaml")
+      ->required();
+  c->add_option("--tag-size", o->tracker.tag_size, "the tag's black square side, m")
+      ->option_text("M")
+      ->required()
+      ->check(runtime::within(1e-4, 10));
+  c->add_option("--out", o->out, "the poses to write, JSON lines")->option_text("POSES.jsonl")->required();
+  c->add_option("--truth", o->truth, "known poses to measure the errors against (synth's truth.jsonl)")
+      ->option_text("TRUTH.jsonl");
+  c->add_option("--family", d.family, "tag family (default " + d.family + ")")->option_text("F");
+  c->add_option("--decimate", d.quad_decimate, "detect on an image this many times smaller (default 1.5)")
+      ->option_text("D")
+      ->check(runtime::within(1, 16));
+  c->add_option("--sigma", d.quad_sigma, "Gaussian blur before detection, px (default 0)")
+      ->option_text("S")
+      ->check(runtime::within(0, 100));
+  c->add_option("--threads", d.nthreads, "detector threads (default 1)")->option_text("N")->check(CLI::Range(1, 64));
+  c->callback([&chosen, o] { chosen = [o] { return track(*o); }; });
+}
+
+void add_synth(CLI::App& app, Command& chosen) {
+  auto o = std::make_shared<SynthOptions>();
+  CLI::App* c = app.add_subcommand("synth", "write a synthetic marker sequence (PNG frames, camera.yaml, truth.jsonl)");
+  c->add_option("--out", o->out, "the folder to write")->option_text("DIR")->required();
+  c->add_option("--frames", o->frames, "frames (default 60)")->option_text("N")->check(CLI::Range(1, 100000));
+  c->add_option("--rate", o->rate, "frame rate, Hz (default 30)")->option_text("HZ")->check(runtime::within(0.1, 1000));
+  c->add_option("--resolution", o->resolution, "image size (default 640x480)")->option_text("WxH");
+  c->add_option("--condition", o->condition, "image condition (default clean)")
+      ->option_text("C")
+      ->check(CLI::IsMember({"clean", "noisy", "blurred"}).description(""));
+  c->add_option("--family", o->marker.family, "tag family (default " + o->marker.family + ")")->option_text("F");
+  c->add_option("--tag-id", o->marker.id, "tag id (default 0)")->option_text("ID")->check(CLI::Range(0, 1000000));
+  c->add_option("--tag-size", o->marker.tag_size, "tag size, m (default 0.05)")
+      ->option_text("M")
+      ->check(runtime::within(1e-4, 10));
+  c->add_flag("--video", o->video, "also write video.avi (Motion JPEG)");
+  c->callback([&chosen, o] { chosen = [o] { return synth(*o); }; });
+}
+
+void add_video(CLI::App& app, Command& chosen) {
+  auto path = std::make_shared<std::string>();
+  CLI::App* c = app.add_subcommand("video", "count a video's frames, and those that are blank (one flat colour)");
+  c->add_option("FILE", *path, "the video")->required();
+  c->callback([&chosen, path] { chosen = [path] { return video(*path); }; });
 }
 
 }  // namespace hcosim::services::cli

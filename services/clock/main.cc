@@ -121,5 +121,6 @@ int run_clock(Options options) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return guarded_main("hcosim_clock", [&] { return run_clock(parse_options(argc, argv)); });
+  return service_main("hcosim_clock", "the lockstep master: one ClockTick a base step, after every follower's StepDone",
+                      argc, argv, run_clock);
 }

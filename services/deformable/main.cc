@@ -7,7 +7,7 @@
 // the visual rate a worker thread maps and publishes each object's
 // DeformedMesh, unless no reader is matched. In lockstep the step answers
 // the device's state of the same step, then advances.
-// Topologies are written once, latched for late joiners. Params:
+// Topologies are written once, latched for late joiners. adapters::Config:
 // docs/deformable.md.
 #include <condition_variable>
 #include <cstdio>
@@ -16,10 +16,9 @@
 #include <thread>
 #include <vector>
 
-#include "adapters/deformable/map_cache.h"
+#include "adapters/deformable/deformable_config.h"
 #include "adapters/deformable/mesh_idl.h"
 #include "adapters/device/haptic_idl.h"
-#include "models/deformable/elastic_surface.h"
 #include "models/deformable/hybrid.h"
 #include "services/runtime/haptic_answer.h"
 #include "services/runtime/service.h"
@@ -48,43 +47,6 @@ constexpr double kFreeMarginM = 0.001;
 // How far the HIP may go with nothing of the object near.
 double free_clearance(const models::deformable::Object& o, const Eigen::Vector3d& hip) {
   return o.reach().exteriorDistance(hip) - kFreeMarginM;
-}
-
-// `cache`: the folder that keeps hybrid objects' visual maps between runs.
-std::unique_ptr<models::deformable::Object> make_object(const Params& o, const std::string& name, double servo_dt,
-                                                        const std::string& cache) {
-  const std::string model = o.text("model", "hybrid", {"hybrid", "sheet", "semisphere"});
-  const auto c = o.vec3("centre", {0, 0, model == "hybrid" ? 0.05 : 0});
-  if (model == "hybrid") {
-    o.allow_only({"name", "model", "centre", "size", "elements", "stiff_ratio", "map", "keep", "behavior_rate",
-                  "visual_subdivisions", "rounding"});
-    models::deformable::HybridSpec s;
-    s.centre = {c[0], c[1], c[2]};
-    s.size = o.number("size", s.size, 0.01, 2);
-    s.elements = o.whole("elements", s.elements, 3, 100);
-    s.stiff_ratio = o.number("stiff_ratio", s.stiff_ratio, 1, 100);
-    s.map = models::deformable::parse_visual_map(o.text("map", "mvc_sparse", {"mvc", "mvc_sparse", "trilinear"}));
-    s.keep = o.number("keep", s.keep, 0.5, 1);
-    s.behavior.dt = 1 / o.number("behavior_rate", 1000, 10, 10000);
-    s.visual_subdivisions = o.whole("visual_subdivisions", s.visual_subdivisions, 1, 300);
-    s.visual_exponent = o.number("rounding", s.visual_exponent, 2, 64);
-    std::printf("%s: hybrid, %d^3 chains and masses, %d visual vertices by %s; building the map (kept in %s)\n",
-                name.c_str(), s.elements, 6 * s.visual_subdivisions * s.visual_subdivisions + 2,
-                models::deformable::name(s.map), cache.c_str());
-    std::fflush(stdout);
-    return std::make_unique<models::deformable::Hybrid>(s, adapters::deformable::map_cache(cache, s));
-  }
-  o.allow_only({"name", "model", "centre", "size", "resolution", "stiffness", "damping", "prestretch"});
-  models::deformable::SurfaceSpec s;
-  s.shape = model == "sheet" ? models::deformable::Shape::sheet : models::deformable::Shape::semisphere;
-  s.centre = {c[0], c[1], c[2]};
-  s.size = o.number("size", s.size, 0.01, 2);
-  s.resolution = o.whole("resolution", s.resolution, 3, 200);
-  s.material.k = o.number("stiffness", s.material.k, 1e-3, 1e5);
-  s.material.b = o.number("damping", s.material.b, 0, 1e3);
-  s.prestretch = o.number("prestretch", s.prestretch, 0, 0.4);
-  s.options.dt = servo_dt;
-  return std::make_unique<models::deformable::ElasticSurface>(s);
 }
 
 // What the device feels from one object's touch, with the local model it
@@ -170,25 +132,27 @@ class VisualWorker {
   std::thread thread_;  // last: starts once the rest is built
 };
 
-int run(int argc, char** argv) {
-  Service svc(parse_options(argc, argv));
-  const Params& p = svc.params();
-  p.allow_only({"device", "visual_rate", "objects"});
-  const std::string device = p.string("device", "omni");
+int run(const Options& options) {
+  Service svc(options);
   const double servo_dt = 1 / svc.options().rate_hz;
-  const double visual_period = 1 / p.number("visual_rate", 30, 1, 240);
+  const adapters::deformable::DeformableConfig config = adapters::deformable::deformable_config(svc.params(), servo_dt);
+  const std::string& device = config.device;
+  const double visual_period = 1 / config.visual_rate_hz;
+  const std::string cache = svc.options().out + "/cache";
   std::vector<Item> items;
-  for (const Params& o : p.list("objects")) {
-    const std::string name = o.string("name", "");
-    if (name.empty() || name.size() > 31) o.fail("name", "each object needs a name of 1 to 31 characters");
-    for (const Item& it : items)
-      if (it.name == name) o.fail("name", "two objects are named '" + name + "'");
+  for (const adapters::deformable::ObjectConfig& o : config.objects) {
+    if (o.model == "hybrid") {
+      const models::deformable::HybridSpec& s = o.hybrid;
+      std::printf("%s: hybrid, %d^3 chains and masses, %d visual vertices by %s; building the map (kept in %s)\n",
+                  o.name.c_str(), s.elements, 6 * s.visual_subdivisions * s.visual_subdivisions + 2,
+                  models::deformable::name(s.map), cache.c_str());
+      std::fflush(stdout);
+    }
     Item item;
-    item.name = name;
-    item.model = make_object(o, name, servo_dt, svc.options().out + "/cache");
+    item.name = o.name;
+    item.model = adapters::deformable::make_object(o, cache);
     items.push_back(std::move(item));
   }
-  if (items.empty()) p.fail("objects", "hcosim_deformable: params.objects lists no object; docs/deformable.md");
 
   Reader<HapticState> in = svc.reader<HapticState>();
   Writer<ForceFeedback> force(svc.participant());
@@ -315,5 +279,6 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return guarded_main("hcosim_deformable", [&] { return run(argc, argv); });
+  return service_main("hcosim_deformable", "the deformable object service: hybrid model, elastic sheet and semi-sphere",
+                      argc, argv, run);
 }

@@ -6,7 +6,7 @@
 // passivity controller and outputs it, clamped. A late answer, when it
 // comes, is compared with what was rendered in its place. In lockstep
 // the device and the sources at its rate form one Gauss-Seidel group:
-// the force of step k answers the state of step k. Params: docs/haptic.md.
+// the force of step k answers the state of step k. adapters::Config: docs/haptic.md.
 #include <algorithm>
 #include <array>
 #include <cstdio>
@@ -16,10 +16,8 @@
 #include <optional>
 #include <vector>
 
+#include "adapters/device/device_config.h"
 #include "adapters/device/haptic_idl.h"
-#include "adapters/device/replay.h"
-#include "adapters/device/script_yaml.h"
-#include "adapters/device/simulated_omni.h"
 #include "adapters/json.h"
 #include "models/haptic/force_sum.h"
 #include "models/haptic/local_model.h"
@@ -31,8 +29,6 @@ using namespace hcosim::services::runtime;
 
 namespace {
 
-// Default share of a tick spent waiting for its answers (answer_wait).
-constexpr double kAnswerShare = 0.8;
 // Lockstep: how long a step waits for its group's answers before failing.
 constexpr double kGroupWaitS = 10;
 
@@ -85,39 +81,17 @@ class Rendered {
   std::map<std::string, std::array<Entry, 256>> by_source_;
 };
 
-int run(int argc, char** argv) {
-  Service svc(parse_options(argc, argv));
-  const Params& p = svc.params();
-  p.allow_only({"device", "replay", "script", "passivity", "source_timeout", "max_damping", "reservoir",
-                "hand_stiffness", "hand_damping", "centre", "answer_wait", "report"});
-  const bool replay = p.text("device", "simulated", {"simulated", "replay"}) == "replay";
-  const std::string source = p.path(replay ? "replay" : "script");
-  if (source.empty())
-    throw adapters::ConfigError(std::string("hcosim_haptic: params.") +
-                                (replay ? "replay (a recorded trajectory, CSV)" : "script (a virtual-user script)") +
-                                " is required; docs/haptic.md");
-  models::haptic::OmniSpec spec;
-  const auto c = p.vec3("centre", {0, 0, 0});
-  spec.centre = {c[0], c[1], c[2]};
-  spec.servo_hz = svc.options().rate_hz;
-  models::haptic::Hand hand;
-  hand.stiffness = p.number("hand_stiffness", hand.stiffness, 1, 1e4);
-  hand.damping = p.number("hand_damping", hand.damping, 0, 1e3);
-  const bool passivity = p.on("passivity", true);
-  const double dt = 1 / spec.servo_hz;
-  models::haptic::PassivityController pc(dt, p.number("max_damping", 20, 1e-3, 1e3),
-                                         p.number("reservoir", 1e-4, 1e-9, 10));
-  models::haptic::ForceSum sum(p.number("source_timeout", 0.05, 1e-3, 10));
-  std::unique_ptr<adapters::device::Device> dev;
-  if (replay)
-    dev = std::make_unique<adapters::device::Replay>(spec, adapters::device::load_trajectory(source));
-  else
-    dev = std::make_unique<adapters::device::SimulatedOmni>(spec, hand, adapters::device::load_script(source));
+int run(const Options& options) {
+  Service svc(options);
+  const adapters::device::DeviceConfig config = adapters::device::device_config(svc.params(), svc.options().rate_hz);
+  const bool passivity = config.passivity;
+  const double dt = 1 / config.spec.servo_hz;
+  models::haptic::PassivityController pc(dt, config.max_damping, config.reservoir);
+  models::haptic::ForceSum sum(config.source_timeout);
+  const std::unique_ptr<adapters::device::Device> dev = adapters::device::make_device(config);
   adapters::device::Device& omni = *dev;
-  // Real time: how long a tick waits for its answers before it renders;
-  // the rest of the tick renders and outputs.
-  const double answer_wait = p.number("answer_wait", kAnswerShare * dt, 0, 0.9 * dt);
-  const std::string report = p.output_path("report");
+  const double answer_wait = config.answer_wait;
+  const std::string& report = config.report;
 
   // In real time a source is waited for once it has answered and while it
   // stays fresh (a service still building its model is not yet a source;
@@ -284,5 +258,7 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return guarded_main("hcosim_haptic", [&] { return run(argc, argv); });
+  return service_main("hcosim_haptic",
+                      "the haptic device service: reads the device, renders the sum of its sources' forces", argc, argv,
+                      run);
 }

@@ -7,7 +7,7 @@
 // and publishes each body's RigidBodyState; in crosscheck mode also each
 // body's RigidDivergence. In lockstep the step answers the device's state
 // of the same step, then steps the bodies.
-// Params: docs/rigid.md.
+// adapters::Config: docs/rigid.md.
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "adapters/device/haptic_idl.h"
+#include "adapters/rigid/rigid_config.h"
 #include "adapters/rigid/rigid_idl.h"
 #include "models/haptic/local_model.h"
 #include "models/rigid/mujoco_world.h"
@@ -47,31 +48,6 @@ struct Item {
   bool was_sleeping = false;
 };
 
-models::rigid::Material material(const Params& p, const std::string& prefix, models::rigid::Material m) {
-  m.restitution = p.number(prefix + "restitution", m.restitution, 0, 1);
-  m.friction = p.number(prefix + "friction", m.friction, 0, 10);
-  return m;
-}
-
-models::rigid::Body make_body(const Params& o, bool ground) {
-  o.allow_only({"name", "shape", "size", "mass", "centre", "velocity", "angular_velocity"});
-  models::rigid::Body b;
-  b.shape = models::rigid::parse_shape(o.text("shape", "sphere", {"sphere", "cube"}));
-  b.size = o.number("size", b.size, 1e-3, 1);
-  b.mass = o.number("mass", b.mass, 1e-3, 100);
-  const auto c = o.vec3("centre", {0, 0, b.size});
-  const auto v = o.vec3("velocity", {0, 0, 0});
-  const auto w = o.vec3("angular_velocity", {0, 0, 0});
-  b.x = {c[0], c[1], c[2]};
-  b.v = {v[0], v[1], v[2]};
-  b.w = {w[0], w[1], w[2]};
-  if (b.x.norm() > 2) o.fail("centre", "a body more than 2 m from the marker is outside any rig");
-  // A cube's lowest point is its centre minus size (it starts axis-aligned).
-  if (ground && b.x.z() < b.size - 1e-9)
-    o.fail("centre", "centre z must be at least size: the body would start inside the marker plane (ground: on)");
-  return b;
-}
-
 // How far the HIP may go with nothing of body `b` near for the next
 // haptic::kFreeHorizonS: its distance to the body's bounding sphere, less
 // the tip's radius, what the body may travel meanwhile at its current
@@ -83,35 +59,18 @@ double free_clearance(const models::rigid::Body& b, double tip_radius, const Eig
   return (hip - b.x).norm() - reach - tip_radius - travel - kFreeMarginM;
 }
 
-int run(int argc, char** argv) {
-  Service svc(parse_options(argc, argv));
-  const Params& p = svc.params();
-  p.allow_only({"device", "backend", "bodies", "ground", "restitution", "friction", "floor_restitution",
-                "floor_friction", "tip_radius", "tip_mass", "stiffness", "max_force", "mujoco_substeps"});
-  const std::string device = p.string("device", "omni");
-  const std::string backend = p.text("backend", "analytic", {"analytic", "mujoco", "crosscheck"});
+int run(const Options& options) {
+  Service svc(options);
+  const adapters::rigid::RigidConfig config = adapters::rigid::rigid_config(svc.params());
+  const std::string& device = config.device;
+  const std::string& backend = config.backend;
+  const models::rigid::WorldSpec& spec = config.spec;
+  const double stiffness = config.stiffness, max_force = config.max_force;
+  const int substeps = config.mujoco_substeps;
+  const std::vector<models::rigid::Body>& bodies = config.bodies;
   const double dt = 1 / svc.options().rate_hz;
-  models::rigid::WorldSpec spec;
-  spec.ground = p.on("ground", true);
-  spec.tip = material(p, "", spec.tip);
-  spec.floor = material(p, "floor_", spec.floor);
-  spec.tip_radius = p.number("tip_radius", spec.tip_radius, 0, 0.05);
-  spec.tip_mass = p.number("tip_mass", spec.tip_mass, 1e-3, 10);
-  const double stiffness = p.number("stiffness", 500, 1, 1e4);
-  const double max_force = p.number("max_force", 3.3, 0.1, 100);
-  const int substeps = p.whole("mujoco_substeps", 10, 1, 100);
-
   std::vector<Item> items;
-  std::vector<models::rigid::Body> bodies;
-  for (const Params& o : p.list("bodies")) {
-    const std::string name = o.string("name", "");
-    if (name.empty() || name.size() > 31) o.fail("name", "each body needs a name of 1 to 31 characters");
-    for (const Item& it : items)
-      if (it.name == name) o.fail("name", "two bodies are named '" + name + "'");
-    items.push_back({name});
-    bodies.push_back(make_body(o, spec.ground));
-  }
-  if (items.empty()) p.fail("bodies", "hcosim_rigid: params.bodies lists no body; docs/rigid.md");
+  for (const std::string& name : config.names) items.push_back({name});
 
   // The primary model gives the states and the forces; in crosscheck mode
   // MuJoCo runs beside the analytic model and only its divergence is told.
@@ -307,5 +266,6 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return guarded_main("hcosim_rigid", [&] { return run(argc, argv); });
+  return service_main("hcosim_rigid", "the rigid body service: cubes and spheres touched through a god-object proxy",
+                      argc, argv, run);
 }

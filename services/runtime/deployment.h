@@ -14,7 +14,6 @@
 namespace hcosim::services::runtime {
 
 // Configuration errors name FILE:LINE:COL (adapters/config.h).
-using adapters::check_keys;
 using adapters::config_error;
 using adapters::ConfigError;
 
@@ -95,46 +94,5 @@ struct ForceSource {
 };
 // Every source answering `device` in `d`, in file order.
 std::vector<ForceSource> force_sources(const Deployment& d, const std::string& device);
-
-// Kind-specific parameters of one service, read with located errors.
-class Params {
- public:
-  Params(std::string file, YAML::Node node);
-  // The number at `key`, or `fallback` when absent; must lie in [lo, hi].
-  double number(const std::string& key, double fallback, double lo, double hi) const;
-  // The whole number at `key`, or `fallback` when absent; must lie in [lo, hi].
-  int whole(const std::string& key, int fallback, int lo, int hi) const;
-  // The string at `key`, or `fallback` when absent; must be one of `allowed`.
-  std::string text(const std::string& key, const std::string& fallback, const std::vector<std::string>& allowed) const;
-  // The switch at `key`, or `fallback` when absent: on or off, or YAML's
-  // true or false (what a file written back by a YAML library says).
-  bool on(const std::string& key, bool fallback) const;
-  // The string at `key`, or `fallback` when absent; any value.
-  std::string string(const std::string& key, const std::string& fallback) const;
-  // The file path at `key`, relative paths taken from the deployment
-  // file's folder; "" when absent. The file must exist.
-  std::string path(const std::string& key) const;
-  // The path of a file to write at `key`, relative paths taken from the
-  // deployment file's folder; "" when absent.
-  std::string output_path(const std::string& key) const;
-  // The [x, y, z] at `key`, or `fallback` when absent.
-  std::array<double, 3> vec3(const std::string& key, const std::array<double, 3>& fallback) const;
-  // The maps of the list at `key`, each read as Params of its own; empty
-  // when absent. Throws unless it is a list of maps.
-  std::vector<Params> list(const std::string& key) const;
-  // The map at `key` read as Params of its own (empty when absent).
-  // Throws unless it is a map.
-  Params map(const std::string& key) const;
-  // The numbers of the list at `key`, each in [lo, hi]; empty when absent.
-  std::vector<double> numbers(const std::string& key, double lo, double hi) const;
-  // Throws a ConfigError at this node naming `what`.
-  [[noreturn]] void fail(const std::string& key, const std::string& what) const;
-  // Throws if a key outside `allowed` is present.
-  void allow_only(const std::vector<std::string>& allowed) const;
-
- private:
-  std::string file_;
-  YAML::Node node_;
-};
 
 }  // namespace hcosim::services::runtime

@@ -13,6 +13,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include "services/runtime/args.h"
+
 namespace hcosim::services::runtime {
 namespace {
 
@@ -52,29 +54,13 @@ std::uint64_t steps_per_period(const Options& o) {
   return static_cast<std::uint64_t>(whole);
 }
 
-Params params_of(const Deployment& d, const std::string& name) {
-  if (d.file.empty()) return Params("", YAML::Node());
+adapters::Config params_of(const Deployment& d, const std::string& name) {
+  if (d.file.empty()) return adapters::Config("", YAML::Node());
   for (const auto& s : d.services)
-    if (s.name == name) return Params(d.file, s.params);
+    if (s.name == name) return adapters::Config(d.file, s.params);
   // The lockstep master is not an entry of the file.
-  if (name == "clock") return Params(d.file, YAML::Node());
+  if (name == "clock") return adapters::Config(d.file, YAML::Node());
   throw adapters::ConfigError(d.file + ": has no service named '" + name + "'");
-}
-
-double value_of(const std::string& flag, const char* v) {
-  char* end = nullptr;
-  const double x = std::strtod(v, &end);
-  if (end == v || *end != '\0' || !std::isfinite(x))
-    throw std::invalid_argument(flag + " needs a number, not '" + v + "'");
-  return x;
-}
-
-int whole_of(const std::string& flag, const char* v, int lo, int hi) {
-  const double x = value_of(flag, v);
-  if (x != std::floor(x) || x < lo || x > hi)
-    throw std::invalid_argument(flag + " needs a whole number from " + std::to_string(lo) + " to " +
-                                std::to_string(hi) + ", not '" + v + "'");
-  return int(x);
 }
 
 // A lockstep step has no deadline: nothing to put first, and a FIFO
@@ -98,44 +84,41 @@ std::int64_t wall_ns() {
   return std::int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
 }
 
-Options parse_options(int argc, char** argv) {
+int service_main(const char* program, const char* what, int argc, char** argv,
+                 const std::function<int(const Options&)>& run) {
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string flag = argv[i];
-    if (i + 1 >= argc) throw std::invalid_argument(flag + " needs a value");
-    const char* v = argv[++i];
-    if (flag == "--name")
-      o.name = v;
-    else if (flag == "--domain")
-      o.domain = static_cast<int>(value_of(flag, v));
-    else if (flag == "--mode")
-      o.mode = parse_mode(v);
-    else if (flag == "--rate")
-      o.rate_hz = value_of(flag, v);
-    else if (flag == "--step")
-      o.step_s = value_of(flag, v);
-    else if (flag == "--duration")
-      o.duration_s = value_of(flag, v);
-    else if (flag == "--qos")
-      o.qos_file = v;
-    else if (flag == "--deployment")
-      o.deployment = v;
-    else if (flag == "--out")
-      o.out = v;
-    else if (flag == "--priority")
-      o.scheduling.priority = whole_of(flag, v, 0, 99);
-    else if (flag == "--cpu")
-      o.scheduling.cpu = whole_of(flag, v, -1, 1023);
-    else
-      throw std::invalid_argument("unknown option " + flag);
-  }
-  if (o.name.empty() || o.name.size() > 31) throw std::invalid_argument("--name NAME (1 to 31 characters) is required");
-  if (!(o.rate_hz > 0)) throw std::invalid_argument("--rate HZ (> 0) is required");
-  if (o.step_s == 0) o.step_s = 1.0 / o.rate_hz;
-  if (!(o.step_s > 0)) throw std::invalid_argument("--step must be positive");
-  if (o.duration_s < 0) throw std::invalid_argument("--duration must not be negative");
-  if (o.qos_file.empty()) o.qos_file = default_qos_file();
-  return o;
+  CLI::App app(what, program);
+  use_hcosim_help(app);
+  app.add_option("--name", o.name, "service name, the key of its ServiceStatus (1 to 31 characters)")
+      ->option_text("NAME")
+      ->required()
+      ->check(CLI::Validator(
+          [](std::string& s) { return s.empty() || s.size() > 31 ? "needs 1 to 31 characters" : ""; }, ""));
+  app.add_option("--rate", o.rate_hz, "step rate, Hz")->option_text("HZ")->required()->check(within(1e-6, 1e5));
+  // No $HCOSIM_DOMAIN here, unlike the tools: a service is on the domain it is given.
+  app.add_option("--domain", o.domain, "DDS domain id (default 0)")->option_text("D")->check(CLI::Range(0, kMaxDomain));
+  app.add_option_function<std::string>(
+         "--mode", [&](const std::string& m) { o.mode = parse_mode(m); },
+         "time: wall clock, or the lockstep clock's ticks")
+      ->option_text("realtime|lockstep")
+      ->check(CLI::IsMember({"realtime", "lockstep"}).description(""));
+  app.add_option("--step", o.step_s, "base step, s (default 1/rate)")->option_text("S")->check(within(1e-9, 1e3));
+  app.add_option("--duration", o.duration_s, "run time, s; 0: until stopped (real time only)")
+      ->option_text("S")
+      ->check(within(0, 1e9));
+  app.add_option("--qos", o.qos_file, "Fast DDS XML profiles (default: the tree's deploy/qos.xml)")
+      ->option_text("FILE");
+  app.add_option("--deployment", o.deployment, "deployment file holding this service's params")->option_text("FILE");
+  app.add_option("--out", o.out, "folder for the files the service writes")->option_text("DIR");
+  app.add_option("--priority", o.scheduling.priority, "SCHED_FIFO priority 1..99 (0: normal scheduling)")
+      ->option_text("P")
+      ->check(CLI::Range(0, 99));
+  app.add_option("--cpu", o.scheduling.cpu, "pin to this CPU (-1: any)")->option_text("N")->check(CLI::Range(-1, 1023));
+  return run_command_line(app, argc, argv, [&] {
+    if (o.step_s == 0) o.step_s = 1.0 / o.rate_hz;
+    if (o.qos_file.empty()) o.qos_file = default_qos_file();
+    return run(o);
+  });
 }
 
 Service::Service(Options options)

@@ -32,8 +32,11 @@ struct Options {
   Scheduling scheduling;        // --priority (SCHED_FIFO 1..99, 0 normal), --cpu: real time only
 };
 
-// Parses argv; throws std::invalid_argument with a usage message on error.
-Options parse_options(int argc, char** argv);
+// A service's main: parses its command line into Options (CLI11; --help
+// lists them) and runs `run` inside guarded_main. `what` is one line
+// saying what the service does, for its help.
+int service_main(const char* program, const char* what, int argc, char** argv,
+                 const std::function<int(const Options&)>& run);
 
 // One step of a service.
 struct Tick {
@@ -71,7 +74,7 @@ class Service {
   }
 
   // This service's params from the deployment file (empty without one).
-  const Params& params() const { return params_; }
+  const adapters::Config& params() const { return params_; }
 
   // StepStamp for outputs computed at `tick`.
   StepStamp stamp(const Tick& tick) const;
@@ -125,7 +128,7 @@ class Service {
   Deployment deployment_;       // --deployment's file (empty without one)
   std::string scheduling_;      // before the participant, whose threads inherit it
   Participant participant_;
-  Params params_;
+  adapters::Config params_;
   Writer<ServiceStatus> status_;
   Rejections rejections_;
   Window jitter_us_, step_us_;

@@ -3,12 +3,13 @@
 // live V4L2 camera), detects the AprilTags in it, and publishes one
 // MarkerPose per tag and the CameraFrame for AR compositing. With the
 // synthetic camera it also measures its errors against the true pose.
-// Params: docs/tracking.md.
+// adapters::Config: docs/tracking.md.
 #include <cmath>
 #include <cstdio>
 #include <memory>
 
 #include "adapters/vision/calibration.h"
+#include "adapters/vision/camera_config.h"
 #include "adapters/vision/source.h"
 #include "adapters/vision/vision_idl.h"
 #include "models/vision/tracker.h"
@@ -22,87 +23,17 @@ namespace {
 // Frames of another size are named one by one up to this many, then counted.
 constexpr int kNamedSkips = 5;
 
-models::vision::TrackerParams tracker_params(const Params& p) {
-  models::vision::TrackerParams t;
-  models::vision::DetectorParams& d = t.detector;
-  d.family = p.text("family", d.family, {"tag36h11", "tag25h9", "tag16h5", "tagStandard41h12"});
-  d.quad_decimate = p.number("quad_decimate", d.quad_decimate, 1, 8);
-  d.quad_sigma = p.number("quad_sigma", d.quad_sigma, -5, 5);
-  d.nthreads = p.whole("nthreads", d.nthreads, 1, 64);
-  d.refine_edges = p.on("refine_edges", d.refine_edges);
-  d.decode_sharpening = p.number("decode_sharpening", d.decode_sharpening, 0, 10);
-  d.max_hamming = p.whole("max_hamming", d.max_hamming, 0, 3);
-  d.refine_corners = p.on("refine_corners", d.refine_corners);
-  t.pose.refine = p.on("refine_pose", t.pose.refine);
-  t.tag_size = p.number("tag_size", t.tag_size, 1e-3, 10);
-  return t;
-}
-
-models::vision::Orbit orbit_params(const Params& p) {
-  p.allow_only({"distance", "swing", "tilt", "base_tilt", "period", "upright", "sweep"});
-  models::vision::Orbit o;
-  o.distance = p.number("distance", o.distance, 0.05, 100);
-  o.swing = p.number("swing", o.swing, 0, 0.9 * o.distance);
-  o.tilt_deg = p.number("tilt", o.tilt_deg, 0, 79);
-  o.base_tilt_deg = p.number("base_tilt", o.base_tilt_deg, 0, 79 - o.tilt_deg);
-  o.period = p.number("period", o.period, 0.1, 1e6);
-  o.upright = p.on("upright", false);
-  o.sweep_deg = p.number("sweep", o.sweep_deg, 0, 179);
-  return o;
-}
-
-int run(int argc, char** argv) {
-  Service svc(parse_options(argc, argv));
-  const Params& p = svc.params();
+int run(const Options& options) {
+  Service svc(options);
   const std::string& name = svc.options().name;
-  p.allow_only({"source",        "path",           "device",      "camera",       "width",
-                "height",        "condition",      "tag_id",      "family",       "tag_size",
-                "quad_decimate", "quad_sigma",     "nthreads",    "refine_edges", "decode_sharpening",
-                "max_hamming",   "refine_corners", "refine_pose", "frames",       "loop",
-                "sheet",         "orbit"});
-  const std::string kind = p.text("source", "synthetic", {"synthetic", "folder", "video", "v4l2"});
-  const models::vision::TrackerParams tp = tracker_params(p);
-  const bool publish_frames = p.on("frames", true), loop = p.on("loop", false);
-  const int width = p.whole("width", 640, 16, 8192), height = p.whole("height", 480, 16, 8192);
-  const std::string camera_file = p.path("camera");
-
-  // The source, and the intrinsics its frames were taken with.
-  std::unique_ptr<adapters::vision::Source> source;
-  adapters::vision::SyntheticSource* synthetic = nullptr;
-  std::vector<Eigen::Vector3d> scene;  // synthetic: where registration is measured, tag frame, m
-  models::vision::Intrinsics k;
-  if (kind != "synthetic" && camera_file.empty())
-    p.fail("camera", "source '" + kind + "' needs camera: an intrinsics file in OpenCV's calibration format");
-  if (!camera_file.empty()) k = adapters::vision::read_intrinsics(camera_file);
-  if (kind == "synthetic") {
-    models::vision::Marker m;
-    m.family = tp.detector.family;
-    m.id = p.whole("tag_id", 0, 0, 1000000);
-    m.tag_size = tp.tag_size;
-    m.sheet = p.number("sheet", m.sheet, 1.25, 10);
-    const models::vision::Orbit path = orbit_params(p.map("orbit"));
-    if (camera_file.empty()) k = models::vision::synthetic_intrinsics(width, height);
-    k = adapters::vision::with_frame_size(k, width, height, camera_file);
-    auto s = std::make_unique<adapters::vision::SyntheticSource>(
-        models::vision::SyntheticCamera(k, m),
-        models::vision::condition(p.text("condition", "clean", {"clean", "noisy", "blurred"})), svc.options().rate_hz,
-        0, path);
-    // The sheet's corners on the table and half its edge above it: where
-    // the scene's objects stand.
-    const double h = 0.5 * m.sheet * m.tag_size;
-    for (double z : {0.0, h})
-      for (double x : {-h, h})
-        for (double y : {-h, h}) scene.emplace_back(x, y, z);
-    synthetic = s.get();
-    source = std::move(s);
-  } else if (kind == "v4l2") {
-    source = adapters::vision::open_v4l2(p.string("device", "/dev/video0"), width, height, svc.options().rate_hz);
-  } else {
-    const std::string path = p.path("path");
-    if (path.empty())
-      p.fail("path", "source '" + kind + "' needs path: the " + (kind == "video" ? "video file" : "image folder"));
-    source = kind == "video" ? adapters::vision::open_video(path) : adapters::vision::open_folder(path);
-  }
+  adapters::vision::CameraConfig camera = adapters::vision::camera_config(svc.params(), svc.options().rate_hz);
+  const models::vision::TrackerParams& tp = camera.tracker;
+  const bool publish_frames = camera.publish_frames, loop = camera.loop;
+  const std::string& camera_file = camera.intrinsics_file;
+  models::vision::Intrinsics& k = camera.intrinsics;
+  const std::unique_ptr<adapters::vision::Source>& source = camera.source;
+  const adapters::vision::SyntheticSource* synthetic = camera.synthetic;
+  const std::vector<Eigen::Vector3d>& scene = camera.scene;
   std::printf("%s: %s; %s tags of %.4g m\n", name.c_str(), source->describe().c_str(), tp.detector.family.c_str(),
               tp.tag_size);
   std::fflush(stdout);
@@ -200,5 +131,6 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return guarded_main("hcosim_tracker", [&] { return run(argc, argv); });
+  return service_main("hcosim_tracker", "the marker tracking service: AprilTag poses and camera frames", argc, argv,
+                      run);
 }

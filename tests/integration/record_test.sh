@@ -85,5 +85,5 @@ expect 2 "unknown topic 'Nope'" "$BIN/hcosim" record "$WORK/x.rec" --topics Nope
 expect 1 "up.yaml: not an hcosim recording" "$BIN/hcosim" export "$WORK/up.yaml" --topic HapticState
 head -c 100000 "$WORK/run.rec" >"$WORK/cut.rec"
 expect 1 "cut.rec: record at byte [0-9]+ is cut short" "$BIN/hcosim" export "$WORK/cut.rec" --topic HapticState
-expect 2 "--format must be jsonl or csv" "$BIN/hcosim" export "$WORK/run.rec" --topic HapticState --format xml
+expect 2 "--format: xml not in \{jsonl,csv\}" "$BIN/hcosim" export "$WORK/run.rec" --topic HapticState --format xml
 echo "record_test: ok (lost while the recorder was stopped, all reported:${lost_report%,})"

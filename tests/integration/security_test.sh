@@ -35,7 +35,7 @@ err=$("$BIN/hcosim" security init --deployment secure.yaml 2>&1); code=$?
 err=$("$BIN/hcosim" security init --deployment plain.yaml 2>&1); code=$?
 [ $code -eq 2 ] && echo "$err" | grep -q "needs a DIR" || fail "init without a folder: exit $code: $err"
 err=$("$BIN/hcosim" security init x --protection most 2>&1); code=$?
-[ $code -eq 2 ] && echo "$err" | grep -q "'data' or 'all'" || fail "bad --protection: exit $code: $err"
+[ $code -eq 2 ] && echo "$err" | grep -q -- "--protection: most not in {data,all}" || fail "bad --protection: exit $code: $err"
 { echo "security: {dir: nokeys}"; cat plain.yaml; } >missing.yaml
 err=$("$BIN/hcosim" up missing.yaml --out out_missing 2>&1); code=$?
 [ $code -eq 2 ] && echo "$err" | grep -q "missing.yaml:1:11: DDS Security: cannot read .*nokeys/ca.pem" ||

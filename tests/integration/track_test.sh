@@ -75,8 +75,8 @@ expect_error 2 "bad.yaml:[0-9]+:[0-9]+: 'camera_matrix' must be 3x3" --source "$
 sed 's/image_width: 640/image_width: 1280/; s/image_height: 480/image_height: 720/' "$S/camera.yaml" >"$WORK/hd.yaml"
 expect_error 2 "calibrated at 1280x720, but the frames are 640x480" --source "$S/frames" --camera "$WORK/hd.yaml" \
   --tag-size 0.05 --out "$WORK/x.jsonl"
-expect_error 2 "track needs --tag-size" --source "$S/frames" --camera "$S/camera.yaml" --out "$WORK/x.jsonl"
-expect_error 2 "hcosim: --threads must be a whole number in 1\.\.64" --source "$S/frames" "${args[@]}" --threads 4e12
+expect_error 2 "hcosim: --tag-size is required" --source "$S/frames" --camera "$S/camera.yaml" --out "$WORK/x.jsonl"
+expect_error 2 "hcosim: --threads: Value 4e12 not in range 1 to 64" --source "$S/frames" "${args[@]}" --threads 4e12
 expect_error 1 "cannot be written" --source "$S/frames" --camera "$S/camera.yaml" --tag-size 0.05 \
   --out "$WORK/absent/dir/x.jsonl"
 echo "track_test: ok"

@@ -148,7 +148,7 @@ struct Probe {
 
 int run(Options o) {
   Service svc(o);
-  const Params& p = svc.params();
+  const adapters::Config& p = svc.params();
   p.allow_only({"role", "nan_every", "fail_after", "vertices", "stiffness", "profile", "start_delay", "delay"});
   const std::string role = p.text("role", "source", {"source", "wall", "camera", "mesh"});
   std::this_thread::sleep_for(std::chrono::duration<double>(p.number("start_delay", 0, 0, 60)));
@@ -171,5 +171,5 @@ int run(Options o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return guarded_main("hcosim_test_probe", [&] { return run(parse_options(argc, argv)); });
+  return service_main("hcosim_test_probe", "a service for the integration tests only", argc, argv, run);
 }

@@ -5,9 +5,9 @@
 #include <fstream>
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include "adapters/deformable/map_cache.h"
+#include "tests/support/temp_dir.h"
 
 namespace hcosim::adapters::deformable {
 
@@ -20,12 +20,9 @@ namespace fs = std::filesystem;
 class MapCache : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir = fs::temp_directory_path() / ("hcosim_map_cache_" + std::to_string(::getpid()));
-    fs::remove_all(dir);
     spec.elements = 4;
     spec.visual_subdivisions = 6;
   }
-  void TearDown() override { fs::remove_all(dir); }
   std::vector<fs::path> files() const {
     std::vector<fs::path> out;
     for (const auto& e : fs::directory_iterator(dir)) out.push_back(e.path());
@@ -35,7 +32,8 @@ class MapCache : public ::testing::Test {
     return a.rows() == b.rows() && a.cols() == b.cols() && a.nonZeros() == b.nonZeros() &&
            Eigen::MatrixXd(a - b).cwiseAbs().maxCoeff() == 0;
   }
-  fs::path dir;
+  tests::TempDir tmp;
+  fs::path dir = tmp.path / "cache";  // made by the cache itself
   HybridSpec spec;
 };
 

@@ -34,14 +34,23 @@ std::vector<char*> argv_of(std::vector<std::string>& args) {
   return v;
 }
 
-TEST(Options, ParsesAndDefaultsTheStep) {
-  std::vector<std::string> args = {"svc", "--name", "a", "--rate", "250", "--domain", "9", "--mode", "lockstep"};
+// service_main's exit status for `args`, and the options it ran with.
+int main_of(std::vector<std::string> args, Options* ran = nullptr) {
   auto v = argv_of(args);
-  const Options o = parse_options(int(v.size()), v.data());
+  return service_main("svc", "a test service", int(v.size()), v.data(), [&](const Options& o) {
+    if (ran) *ran = o;
+    return 0;
+  });
+}
+
+TEST(Options, ParsesAndDefaultsTheStep) {
+  Options o;
+  ASSERT_EQ(main_of({"svc", "--name", "a", "--rate", "250", "--domain", "9", "--mode", "lockstep"}, &o), 0);
   EXPECT_EQ(o.name, "a");
   EXPECT_EQ(o.domain, 9);
   EXPECT_EQ(o.mode, Mode::kLockstep);
   EXPECT_DOUBLE_EQ(o.step_s, 0.004);
+  EXPECT_EQ(o.qos_file, default_qos_file());
 }
 
 TEST(Options, RefusesMissingAndMalformedValues) {
@@ -49,11 +58,23 @@ TEST(Options, RefusesMissingAndMalformedValues) {
        std::vector<std::vector<std::string>>{{"svc", "--rate", "100"},
                                              {"svc", "--name", "a"},
                                              {"svc", "--name", "a", "--rate", "fast"},
+                                             {"svc", "--name", "a", "--rate", "nan"},
+                                             {"svc", "--name", "a", "--rate", "0"},
                                              {"svc", "--name", "a", "--rate", "10", "--bogus", "1"},
+                                             {"svc", "--name", "a", "--rate", "10", "--mode", "sometimes"},
+                                             {"svc", "--name", "a", "--rate", "10", "--priority", "1.5"},
+                                             {"svc", "--name", "a", "--rate", "10", "--domain", "300"},
                                              {"svc", "--name", "a", "--rate"}}) {
-    auto v = argv_of(args);
-    EXPECT_THROW(parse_options(int(v.size()), v.data()), std::invalid_argument) << args.back();
+    Options o;
+    EXPECT_EQ(main_of(args, &o), 2) << args.back();
+    EXPECT_TRUE(o.name.empty()) << "ran with " << args.back();
   }
+}
+
+TEST(Options, HelpRunsNothing) {
+  Options o;
+  EXPECT_EQ(main_of({"svc", "--help"}, &o), 0);
+  EXPECT_TRUE(o.name.empty());
 }
 
 TEST(Service, LockstepRateMustDivideTheBaseStep) {

@@ -1,0 +1,64 @@
+#include "adapters/deformable/deformable_config.h"
+
+#include "adapters/deformable/map_cache.h"
+
+namespace hcosim::adapters::deformable {
+namespace {
+
+ObjectConfig object(const Config& o, double servo_dt) {
+  ObjectConfig c;
+  c.name = o.string("name", "");
+  if (c.name.empty() || c.name.size() > 31) o.fail("name", "each object needs a name of 1 to 31 characters");
+  c.model = o.text("model", "hybrid", {"hybrid", "sheet", "semisphere"});
+  const auto centre = o.vec3("centre", {0, 0, c.model == "hybrid" ? 0.05 : 0});
+  if (c.model == "hybrid") {
+    o.allow_only({"name", "model", "centre", "size", "elements", "stiff_ratio", "map", "keep", "behavior_rate",
+                  "visual_subdivisions", "rounding"});
+    models::deformable::HybridSpec& s = c.hybrid;
+    s.centre = {centre[0], centre[1], centre[2]};
+    s.size = o.number("size", s.size, 0.01, 2);
+    s.elements = o.whole("elements", s.elements, 3, 100);
+    s.stiff_ratio = o.number("stiff_ratio", s.stiff_ratio, 1, 100);
+    s.map = models::deformable::parse_visual_map(o.text("map", "mvc_sparse", {"mvc", "mvc_sparse", "trilinear"}));
+    s.keep = o.number("keep", s.keep, 0.5, 1);
+    s.behavior.dt = 1 / o.number("behavior_rate", 1000, 10, 10000);
+    s.visual_subdivisions = o.whole("visual_subdivisions", s.visual_subdivisions, 1, 300);
+    s.visual_exponent = o.number("rounding", s.visual_exponent, 2, 64);
+    return c;
+  }
+  o.allow_only({"name", "model", "centre", "size", "resolution", "stiffness", "damping", "prestretch"});
+  models::deformable::SurfaceSpec& s = c.surface;
+  s.shape = c.model == "sheet" ? models::deformable::Shape::sheet : models::deformable::Shape::semisphere;
+  s.centre = {centre[0], centre[1], centre[2]};
+  s.size = o.number("size", s.size, 0.01, 2);
+  s.resolution = o.whole("resolution", s.resolution, 3, 200);
+  s.material.k = o.number("stiffness", s.material.k, 1e-3, 1e5);
+  s.material.b = o.number("damping", s.material.b, 0, 1e3);
+  s.prestretch = o.number("prestretch", s.prestretch, 0, 0.4);
+  s.options.dt = servo_dt;
+  return c;
+}
+
+}  // namespace
+
+DeformableConfig deformable_config(const Config& p, double servo_dt) {
+  p.allow_only({"device", "visual_rate", "objects"});
+  DeformableConfig d;
+  d.device = p.string("device", d.device);
+  d.visual_rate_hz = p.number("visual_rate", d.visual_rate_hz, 1, 240);
+  for (const Config& o : p.list("objects")) {
+    ObjectConfig c = object(o, servo_dt);
+    for (const ObjectConfig& other : d.objects)
+      if (other.name == c.name) o.fail("name", "two objects are named '" + c.name + "'");
+    d.objects.push_back(std::move(c));
+  }
+  if (d.objects.empty()) p.fail("objects", "hcosim_deformable: params.objects lists no object; docs/deformable.md");
+  return d;
+}
+
+std::unique_ptr<models::deformable::Object> make_object(const ObjectConfig& o, const std::string& cache) {
+  if (o.model == "hybrid") return std::make_unique<models::deformable::Hybrid>(o.hybrid, map_cache(cache, o.hybrid));
+  return std::make_unique<models::deformable::ElasticSurface>(o.surface);
+}
+
+}  // namespace hcosim::adapters::deformable

@@ -1,0 +1,59 @@
+#include "adapters/rigid/rigid_config.h"
+
+namespace hcosim::adapters::rigid {
+namespace {
+
+models::rigid::Material material(const Config& p, const std::string& prefix, models::rigid::Material m) {
+  m.restitution = p.number(prefix + "restitution", m.restitution, 0, 1);
+  m.friction = p.number(prefix + "friction", m.friction, 0, 10);
+  return m;
+}
+
+models::rigid::Body body(const Config& o, bool ground) {
+  o.allow_only({"name", "shape", "size", "mass", "centre", "velocity", "angular_velocity"});
+  models::rigid::Body b;
+  b.shape = models::rigid::parse_shape(o.text("shape", "sphere", {"sphere", "cube"}));
+  b.size = o.number("size", b.size, 1e-3, 1);
+  b.mass = o.number("mass", b.mass, 1e-3, 100);
+  const auto c = o.vec3("centre", {0, 0, b.size});
+  const auto v = o.vec3("velocity", {0, 0, 0});
+  const auto w = o.vec3("angular_velocity", {0, 0, 0});
+  b.x = {c[0], c[1], c[2]};
+  b.v = {v[0], v[1], v[2]};
+  b.w = {w[0], w[1], w[2]};
+  if (b.x.norm() > 2) o.fail("centre", "a body more than 2 m from the marker is outside any rig");
+  // A cube's lowest point is its centre minus size (it starts axis-aligned).
+  if (ground && b.x.z() < b.size - 1e-9)
+    o.fail("centre", "centre z must be at least size: the body would start inside the marker plane (ground: on)");
+  return b;
+}
+
+}  // namespace
+
+RigidConfig rigid_config(const Config& p) {
+  p.allow_only({"device", "backend", "bodies", "ground", "restitution", "friction", "floor_restitution",
+                "floor_friction", "tip_radius", "tip_mass", "stiffness", "max_force", "mujoco_substeps"});
+  RigidConfig r;
+  r.device = p.string("device", r.device);
+  r.backend = p.text("backend", r.backend, {"analytic", "mujoco", "crosscheck"});
+  r.spec.ground = p.on("ground", r.spec.ground);
+  r.spec.tip = material(p, "", r.spec.tip);
+  r.spec.floor = material(p, "floor_", r.spec.floor);
+  r.spec.tip_radius = p.number("tip_radius", r.spec.tip_radius, 0, 0.05);
+  r.spec.tip_mass = p.number("tip_mass", r.spec.tip_mass, 1e-3, 10);
+  r.stiffness = p.number("stiffness", r.stiffness, 1, 1e4);
+  r.max_force = p.number("max_force", r.max_force, 0.1, 100);
+  r.mujoco_substeps = p.whole("mujoco_substeps", r.mujoco_substeps, 1, 100);
+  for (const Config& o : p.list("bodies")) {
+    const std::string name = o.string("name", "");
+    if (name.empty() || name.size() > 31) o.fail("name", "each body needs a name of 1 to 31 characters");
+    for (const std::string& n : r.names)
+      if (n == name) o.fail("name", "two bodies are named '" + name + "'");
+    r.names.push_back(name);
+    r.bodies.push_back(body(o, r.spec.ground));
+  }
+  if (r.bodies.empty()) p.fail("bodies", "hcosim_rigid: params.bodies lists no body; docs/rigid.md");
+  return r;
+}
+
+}  // namespace hcosim::adapters::rigid

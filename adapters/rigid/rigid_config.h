@@ -1,0 +1,30 @@
+// The rigid service's params (docs/rigid.md) read into what the rigid
+// models take: the world's spec, its bodies, and how the service drives
+// them (backend, proxy spring).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "adapters/config.h"
+#include "models/rigid/world.h"
+
+namespace hcosim::adapters::rigid {
+
+struct RigidConfig {
+  std::string device = "omni";       // the haptic device whose stylus touches the bodies
+  std::string backend = "analytic";  // analytic, mujoco or crosscheck (both, MuJoCo's divergence told)
+  models::rigid::WorldSpec spec;     // ground, materials, tip
+  double stiffness = 500;            // N/m, the god-object proxy's spring
+  double max_force = 3.3;            // N, where the spring's force is clamped (the Omni's peak)
+  int mujoco_substeps = 10;          // MuJoCo steps per service step
+  std::vector<std::string> names;    // the bodies' names (ForceFeedback.source), in file order
+  std::vector<models::rigid::Body> bodies;
+};
+
+// Throws adapters::ConfigError at FILE:LINE:COL for an unknown key, a value
+// out of range, a body without a unique name or starting inside the
+// marker plane, or no body at all.
+RigidConfig rigid_config(const Config& params);
+
+}  // namespace hcosim::adapters::rigid

@@ -1,0 +1,73 @@
+#include "adapters/deformable/deformable_config.h"
+
+#include <gtest/gtest.h>
+
+#include "tests/support/temp_dir.h"
+
+namespace hcosim::adapters::deformable {
+namespace {
+
+using tests::message_of;
+
+Config params(const std::string& text) { return Config::parse(text, "d.yaml", "params"); }
+
+TEST(DeformableConfig, ReadsEachObjectsSpec) {
+  const DeformableConfig d = deformable_config(
+      params("device: right\nvisual_rate: 60\nobjects:\n"
+             "  - {name: organ, size: 0.06, elements: 5, stiff_ratio: 3, map: trilinear, behavior_rate: 500}\n"
+             "  - {name: skin, model: sheet, size: 0.1, resolution: 12, stiffness: 40, centre: [0, 0, 0.01]}\n"
+             "  - {name: dome, model: semisphere}\n"),
+      0.001);
+  EXPECT_EQ(d.device, "right");
+  EXPECT_EQ(d.visual_rate_hz, 60);
+  ASSERT_EQ(d.objects.size(), 3u);
+  const models::deformable::HybridSpec& h = d.objects[0].hybrid;
+  EXPECT_EQ(d.objects[0].model, "hybrid");
+  EXPECT_EQ(h.size, 0.06);
+  EXPECT_EQ(h.elements, 5);
+  EXPECT_EQ(h.stiff_ratio, 3);
+  EXPECT_EQ(h.map, models::deformable::VisualMap::trilinear);
+  EXPECT_DOUBLE_EQ(h.behavior.dt, 0.002);
+  EXPECT_EQ(h.centre, Eigen::Vector3d(0, 0, 0.05));  // a hybrid stands on the marker by default
+  const models::deformable::SurfaceSpec& s = d.objects[1].surface;
+  EXPECT_EQ(s.shape, models::deformable::Shape::sheet);
+  EXPECT_EQ(s.resolution, 12);
+  EXPECT_EQ(s.material.k, 40);
+  EXPECT_EQ(s.centre, Eigen::Vector3d(0, 0, 0.01));
+  EXPECT_EQ(s.options.dt, 0.001);  // a surface steps with the service
+  EXPECT_EQ(d.objects[2].surface.shape, models::deformable::Shape::semisphere);
+  EXPECT_EQ(d.objects[2].surface.centre, Eigen::Vector3d::Zero());
+}
+
+TEST(DeformableConfig, TheModelIsTheOneAsked) {
+  tests::TempDir dir;
+  const DeformableConfig d =
+      deformable_config(params("objects:\n  - {name: a, model: sheet, resolution: 4}\n  - {name: b, elements: 3, "
+                               "visual_subdivisions: 2, map: trilinear}\n"),
+                        0.001);
+  const auto sheet = make_object(d.objects[0], dir.path.string());
+  EXPECT_NE(dynamic_cast<models::deformable::ElasticSurface*>(sheet.get()), nullptr);
+  const auto hybrid = make_object(d.objects[1], dir.path.string());
+  EXPECT_NE(dynamic_cast<models::deformable::Hybrid*>(hybrid.get()), nullptr);
+  EXPECT_EQ(hybrid->surface().cols(), 6 * 2 * 2 + 2);
+}
+
+TEST(DeformableConfig, MistakesAreNamedAtTheirPlace) {
+  const auto error = [](const std::string& text) {
+    return message_of<ConfigError>([&] { deformable_config(params(text), 0.001); });
+  };
+  EXPECT_EQ(error("device: omni\n"),
+            "d.yaml:1:1: hcosim_deformable: params.objects lists no object; docs/deformable.md");
+  EXPECT_EQ(error("objects: [{name: a}, {name: a, model: sheet}]\n"), "d.yaml:1:29: two objects are named 'a'");
+  EXPECT_EQ(error("objects: [{name: a, model: jelly}]\n"),
+            "d.yaml:1:28: 'model' must be one of hybrid, sheet, semisphere, not 'jelly'");
+  // A sheet has no elements: the hybrid's keys are not a surface's.
+  EXPECT_EQ(error("objects: [{name: a, model: sheet, elements: 4}]\n").rfind("d.yaml:1:35: unknown key 'elements'", 0),
+            0u);
+  EXPECT_EQ(error("objects: [{name: a, elements: 2}]\n"),
+            "d.yaml:1:31: 'elements' must be a whole number from 3 to 100, not 2");
+  EXPECT_EQ(error("objects: [{model: sheet}]\n"), "d.yaml:1:11: each object needs a name of 1 to 31 characters");
+}
+
+}  // namespace
+}  // namespace hcosim::adapters::deformable

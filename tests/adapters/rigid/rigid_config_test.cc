@@ -1,0 +1,71 @@
+#include "adapters/rigid/rigid_config.h"
+
+#include <gtest/gtest.h>
+
+#include "tests/support/temp_dir.h"
+
+namespace hcosim::adapters::rigid {
+namespace {
+
+using tests::message_of;
+
+Config params(const std::string& text) { return Config::parse(text, "r.yaml", "params"); }
+
+TEST(RigidConfig, ReadsTheWorldAndItsBodies) {
+  const RigidConfig r = rigid_config(params(
+      "device: left\nbackend: crosscheck\nground: off\nfriction: 0.7\nfloor_restitution: 0.1\ntip_radius: 0.003\n"
+      "stiffness: 800\nmax_force: 2\nmujoco_substeps: 4\n"
+      "bodies:\n  - {name: box, shape: cube, size: 0.02, mass: 0.05, centre: [0.01, 0, 0.02]}\n"
+      "  - {name: ball, velocity: [0, 0, -1]}\n"));
+  EXPECT_EQ(r.device, "left");
+  EXPECT_EQ(r.backend, "crosscheck");
+  EXPECT_FALSE(r.spec.ground);
+  EXPECT_EQ(r.spec.tip.friction, 0.7);
+  EXPECT_EQ(r.spec.floor.restitution, 0.1);
+  EXPECT_EQ(r.spec.floor.friction, models::rigid::WorldSpec().floor.friction);
+  EXPECT_EQ(r.spec.tip_radius, 0.003);
+  EXPECT_EQ(r.stiffness, 800);
+  EXPECT_EQ(r.max_force, 2);
+  EXPECT_EQ(r.mujoco_substeps, 4);
+  ASSERT_EQ(r.names, (std::vector<std::string>{"box", "ball"}));
+  EXPECT_EQ(r.bodies[0].shape, models::rigid::Shape::cube);
+  EXPECT_EQ(r.bodies[0].mass, 0.05);
+  EXPECT_EQ(r.bodies[0].x, Eigen::Vector3d(0.01, 0, 0.02));
+  // A body's centre defaults to resting on the marker: its size above it.
+  EXPECT_EQ(r.bodies[1].shape, models::rigid::Shape::sphere);
+  EXPECT_EQ(r.bodies[1].x, Eigen::Vector3d(0, 0, r.bodies[1].size));
+  EXPECT_EQ(r.bodies[1].v, Eigen::Vector3d(0, 0, -1));
+}
+
+TEST(RigidConfig, DefaultsAreTheDocumentedOnes) {
+  const RigidConfig r = rigid_config(params("bodies: [{name: b}]\n"));
+  EXPECT_EQ(r.device, "omni");
+  EXPECT_EQ(r.backend, "analytic");
+  EXPECT_TRUE(r.spec.ground);
+  EXPECT_EQ(r.stiffness, 500);
+  EXPECT_EQ(r.max_force, 3.3);
+  EXPECT_EQ(r.mujoco_substeps, 10);
+}
+
+TEST(RigidConfig, MistakesAreNamedAtTheirPlace) {
+  const auto error = [](const std::string& text) {
+    return message_of<ConfigError>([&] { rigid_config(params(text)); });
+  };
+  EXPECT_EQ(error("device: omni\n"), "r.yaml:1:1: hcosim_rigid: params.bodies lists no body; docs/rigid.md");
+  EXPECT_EQ(error("bodies: [{name: a}, {name: a}]\n"), "r.yaml:1:28: two bodies are named 'a'");
+  EXPECT_EQ(error("bodies: [{name: a, centre: [0, 0, 0.001], size: 0.01}]\n"),
+            "r.yaml:1:28: centre z must be at least size: the body would start inside the marker plane (ground: on)");
+  EXPECT_EQ(error("bodies: [{name: a, shape: cone}]\n"),
+            "r.yaml:1:27: 'shape' must be one of sphere, cube, not 'cone'");
+  EXPECT_EQ(error("bodies: [{name: a, colour: red}]\n"),
+            "r.yaml:1:20: unknown key 'colour' (valid keys: name, shape, size, mass, centre, velocity, "
+            "angular_velocity)");
+  EXPECT_EQ(error("stifness: 5\nbodies: [{name: a}]\n"),
+            "r.yaml:1:1: unknown key 'stifness'; did you mean 'stiffness'?");
+  EXPECT_EQ(error("backend: bullet\nbodies: [{name: a}]\n"),
+            "r.yaml:1:10: 'backend' must be one of analytic, mujoco, crosscheck, not 'bullet'");
+  EXPECT_EQ(error("bodies: [{shape: cube}]\n"), "r.yaml:1:10: each body needs a name of 1 to 31 characters");
+}
+
+}  // namespace
+}  // namespace hcosim::adapters::rigid
