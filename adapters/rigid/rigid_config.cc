@@ -9,8 +9,24 @@ models::rigid::Material material(const Config& p, const std::string& prefix, mod
   return m;
 }
 
+// `friction`: one coefficient (static and dynamic alike) or {static,
+// dynamic}; 0.3 when absent.
+models::haptic::Friction friction(const Config& o) {
+  if (!o.has("friction")) return {};
+  if (!o.node()["friction"].IsMap()) {
+    const double mu = o.number("friction", 0.3, 0, 10);
+    return {mu, mu};
+  }
+  const Config f = o.map("friction");
+  f.allow_only({"static", "dynamic"});
+  f.require({"static", "dynamic"}, "'friction'");
+  const models::haptic::Friction out{f.number("static", 0, 0, 10), f.number("dynamic", 0, 0, 10)};
+  if (out.dynamic_mu > out.static_mu) f.fail("dynamic", "'dynamic' friction must not exceed 'static'");
+  return out;
+}
+
 models::rigid::Body body(const Config& o, bool ground) {
-  o.allow_only({"name", "shape", "size", "mass", "centre", "velocity", "angular_velocity"});
+  o.allow_only({"name", "shape", "size", "mass", "centre", "velocity", "angular_velocity", "friction"});
   models::rigid::Body b;
   b.shape = models::rigid::parse_shape(o.text("shape", "sphere", {"sphere", "cube"}));
   b.size = o.number("size", b.size, 1e-3, 1);
@@ -51,6 +67,7 @@ RigidConfig rigid_config(const Config& p) {
       if (n == name) o.fail("name", "two bodies are named '" + name + "'");
     r.names.push_back(name);
     r.bodies.push_back(body(o, r.spec.ground));
+    r.frictions.push_back(friction(o));
   }
   if (r.bodies.empty()) p.fail("bodies", "hcosim_rigid: params.bodies lists no body; docs/rigid.md");
   return r;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "adapters/config.h"
+#include "models/haptic/friction.h"
 #include "models/rigid/world.h"
 
 namespace hcosim::adapters::rigid {
@@ -20,6 +21,7 @@ struct RigidConfig {
   int mujoco_substeps = 10;          // MuJoCo steps per service step
   std::vector<std::string> names;    // the bodies' names (ForceFeedback.source), in file order
   std::vector<models::rigid::Body> bodies;
+  std::vector<models::haptic::Friction> frictions;  // the stylus against each body, felt through its proxy
 };
 
 // Throws adapters::ConfigError at FILE:LINE:COL for an unknown key, a value

@@ -36,6 +36,9 @@ class FrictionCone {
   // contact starts stuck. Preconditions: n is a unit vector, all finite.
   Eigen::Vector3d slide(const Eigen::Vector3d& proxy, const Eigen::Vector3d& n, const Eigen::Vector3d& h);
 
+  // The contact ended (the object's own test): the next one starts stuck.
+  void release() { slipping_ = false; }
+
   bool slipping() const { return slipping_; }
   const Friction& friction() const { return f_; }
 

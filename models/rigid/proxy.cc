@@ -37,6 +37,7 @@ Eigen::Vector3d Proxy::update(const Body& b, double margin, const Eigen::Vector3
   const Eigen::Vector3d hl = R.transpose() * (h - b.x);
   if (nearest(b, h, margin).distance > 0) {
     contact_ = false, last_ = h;
+    cone_.release();
     return h;
   }
   if (!contact_) {
@@ -54,12 +55,11 @@ Eigen::Vector3d Proxy::update(const Body& b, double margin, const Eigen::Vector3
     local_ = out;
     contact_ = true;
   }
-  // Slide on the tangent plane at the proxy toward the HIP, then back onto
-  // the surface.
+  // Slide on the tangent plane at the proxy toward the HIP as far as
+  // friction lets it, then back onto the surface.
   const int face = face_of(local_);
   const Eigen::Vector3d n = b.shape == Shape::sphere ? Eigen::Vector3d(local_.normalized()) : face_normal(face);
-  const Eigen::Vector3d target = hl - (hl - local_).dot(n) * n;
-  local_ = onto_surface(b, margin, target, face);
+  local_ = onto_surface(b, margin, cone_.slide(local_, n, hl), face);
   return b.x + R * local_;
 }
 

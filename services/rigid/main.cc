@@ -97,7 +97,8 @@ int run(const Options& options) {
   Writer<ForceFeedback> force(svc.participant());
   Writer<RigidBodyState> states(svc.participant());
   Writer<RigidDivergence> divergences(svc.participant());
-  std::vector<models::rigid::Proxy> proxies(items.size());
+  std::vector<models::rigid::Proxy> proxies;
+  for (const models::haptic::Friction& f : config.frictions) proxies.emplace_back(f);
   std::vector<adapters::device::Feel> feels(items.size());
   std::vector<adapters::device::Feel> said(items.size());  // the last answer written per body
   std::vector<std::uint64_t> said_seq(items.size());       // the state it answered

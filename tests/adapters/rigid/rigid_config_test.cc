@@ -47,6 +47,27 @@ TEST(RigidConfig, DefaultsAreTheDocumentedOnes) {
   EXPECT_EQ(r.mujoco_substeps, 10);
 }
 
+TEST(RigidConfig, EachBodysFrictionIsOneCoefficientOrStaticAndDynamic) {
+  const RigidConfig r = rigid_config(params(
+      "bodies:\n  - {name: a}\n  - {name: b, friction: 0}\n  - {name: c, friction: {static: 0.6, dynamic: 0.4}}\n"
+      "  - {name: d, friction: 0.5}\n"));
+  ASSERT_EQ(r.frictions.size(), 4u);
+  EXPECT_EQ(r.frictions[0].static_mu, 0.3);  // the default
+  EXPECT_EQ(r.frictions[0].dynamic_mu, 0.3);
+  EXPECT_EQ(r.frictions[1].static_mu, 0);
+  EXPECT_EQ(r.frictions[2].static_mu, 0.6);
+  EXPECT_EQ(r.frictions[2].dynamic_mu, 0.4);
+  EXPECT_EQ(r.frictions[3].dynamic_mu, 0.5);
+  const auto error = [](const std::string& text) {
+    return message_of<ConfigError>([&] { rigid_config(params(text)); });
+  };
+  EXPECT_EQ(error("bodies: [{name: a, friction: {static: 0.2, dynamic: 0.4}}]\n"),
+            "r.yaml:1:53: 'dynamic' friction must not exceed 'static'");
+  EXPECT_EQ(error("bodies: [{name: a, friction: {static: 0.2}}]\n"),
+            "r.yaml:1:30: 'friction' is missing required key 'dynamic'");
+  EXPECT_EQ(error("bodies: [{name: a, friction: -1}]\n"), "r.yaml:1:30: 'friction' = -1 is outside [0, 10]");
+}
+
 TEST(RigidConfig, MistakesAreNamedAtTheirPlace) {
   const auto error = [](const std::string& text) {
     return message_of<ConfigError>([&] { rigid_config(params(text)); });
@@ -59,7 +80,7 @@ TEST(RigidConfig, MistakesAreNamedAtTheirPlace) {
             "r.yaml:1:27: 'shape' must be one of sphere, cube, not 'cone'");
   EXPECT_EQ(error("bodies: [{name: a, colour: red}]\n"),
             "r.yaml:1:20: unknown key 'colour' (valid keys: name, shape, size, mass, centre, velocity, "
-            "angular_velocity)");
+            "angular_velocity, friction)");
   EXPECT_EQ(error("stifness: 5\nbodies: [{name: a}]\n"),
             "r.yaml:1:1: unknown key 'stifness'; did you mean 'stiffness'?");
   EXPECT_EQ(error("backend: bullet\nbodies: [{name: a}]\n"),

@@ -115,11 +115,17 @@ TEST(FrictionCone, LiftingOffEndsTheSlip) {
 
 TEST(FrictionCone, RefusesCoefficientsThatMakeNoSense) {
   using tests::message_of;
-  EXPECT_EQ(message_of<std::invalid_argument>([] { FrictionCone({-0.1, 0}); }),
+  EXPECT_EQ(message_of<std::invalid_argument>([] {
+              FrictionCone({-0.1, 0});
+            }),
             "friction: the static coefficient must be finite and >= 0");
-  EXPECT_EQ(message_of<std::invalid_argument>([] { FrictionCone({0.3, NAN}); }),
+  EXPECT_EQ(message_of<std::invalid_argument>([] {
+              FrictionCone({0.3, NAN});
+            }),
             "friction: the dynamic coefficient must be finite and >= 0");
-  EXPECT_EQ(message_of<std::invalid_argument>([] { FrictionCone({0.2, 0.4}); }),
+  EXPECT_EQ(message_of<std::invalid_argument>([] {
+              FrictionCone({0.2, 0.4});
+            }),
             "friction: the dynamic coefficient must not exceed the static one");
 }
 
