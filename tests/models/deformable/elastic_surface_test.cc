@@ -21,7 +21,10 @@ TEST(ElasticSurface, SheetPressedAtOneVertexPushesBackAndRecovers) {  // 000 §2
   Touch t;
   for (int k = 1; k <= 500; ++k) {
     t = sheet.touch(1e-3, Eigen::Vector3d(0.001, 0, -0.01 * std::min(1.0, k / 200.0)), false);
-    if (k % 50 == 0 && k <= 200) EXPECT_GT(t.force.z(), last), last = t.force.z();
+    if (k % 50 == 0 && k <= 200) {
+      EXPECT_GT(t.force.z(), last);
+      last = t.force.z();
+    }
   }
   EXPECT_TRUE(t.in_contact);
   EXPECT_NEAR(t.depth, 0.01, 1e-12);
