@@ -47,8 +47,9 @@ TEST(CameraConfig, FileSourcesNeedTheirFilesAndIntrinsics) {
 TEST(CameraConfig, MistakesAreNamedAtTheirPlace) {
   EXPECT_EQ(message_of<ConfigError>([] { camera_config(params("sorce: folder\n"), 30); }),
             "c.yaml:1:1: unknown key 'sorce'; did you mean 'source'?");
-  EXPECT_EQ(message_of<ConfigError>([] { camera_config(params("family: tag99\n"), 30); }).rfind(
-                "c.yaml:1:9: 'family' must be one of tag36h11", 0),
+  EXPECT_EQ(message_of<ConfigError>([] {
+              camera_config(params("family: tag99\n"), 30);
+            }).rfind("c.yaml:1:9: 'family' must be one of tag36h11", 0),
             0u);
   EXPECT_EQ(message_of<ConfigError>([] { camera_config(params("orbit: {distance: 0.01}\n"), 30); }),
             "c.yaml:1:19: 'distance' = 0.01 is outside [0.05, 100]");
