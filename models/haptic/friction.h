@@ -36,6 +36,19 @@ class FrictionCone {
   // contact starts stuck. Preconditions: n is a unit vector, all finite.
   Eigen::Vector3d slide(const Eigen::Vector3d& proxy, const Eigen::Vector3d& n, const Eigen::Vector3d& h);
 
+  // The same rule on a coupling force of any law: `force` (N, on the
+  // device, pushing it out along the outward unit normal n) is kept inside
+  // the cone of the state the contact is in; `keep` is the share of the
+  // proxy's tangential offset from the HIP that stays (1: stuck), so that
+  // the next tick's force lies on the dynamic rim for a coupling linear in
+  // that offset. A force that does not push (force . n <= 0) is returned
+  // as it is, stuck. Preconditions: n is a unit vector, all finite.
+  struct Grip {
+    Eigen::Vector3d force;
+    double keep = 1;
+  };
+  Grip grip(const Eigen::Vector3d& force, const Eigen::Vector3d& n);
+
   // The contact ended (the object's own test): the next one starts stuck.
   void release() { slipping_ = false; }
 

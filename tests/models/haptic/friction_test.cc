@@ -104,6 +104,33 @@ TEST(FrictionCone, AClosedStrokeDissipatesAndFrictionlessReturnsIt) {
   }
 }
 
+// The cone on a force of any law (a deformable object's, not a spring's):
+// a force inside the static cone is kept whole; one outside is put on the
+// dynamic rim, its normal part kept, and `keep` says how much of the
+// tangential offset stays; a force that does not push is passed through.
+TEST(FrictionCone, GripKeepsAnyForceInsideItsCone) {
+  FrictionCone cone({0.5, 0.3});
+  const Eigen::Vector3d n = Eigen::Vector3d(1, 2, 2) / 3;
+  const Eigen::Vector3d t = Eigen::Vector3d(2, -2, 1) / 3;  // unit, tangent
+  FrictionCone::Grip g = cone.grip(2.0 * n + 0.9 * t, n);
+  EXPECT_EQ(g.keep, 1);
+  EXPECT_EQ(g.force, 2.0 * n + 0.9 * t);
+  EXPECT_FALSE(cone.slipping());
+  g = cone.grip(2.0 * n + 1.2 * t, n);
+  EXPECT_TRUE(cone.slipping());
+  EXPECT_NEAR(g.keep, 0.3 * 2.0 / 1.2, 1e-15);
+  EXPECT_NEAR(g.force.dot(n), 2.0, 1e-15);
+  EXPECT_NEAR((g.force - g.force.dot(n) * n).norm(), 0.6, 1e-15);
+  // Slipping, the dynamic cone holds it again.
+  g = cone.grip(2.0 * n + 0.55 * t, n);
+  EXPECT_EQ(g.keep, 1);
+  EXPECT_FALSE(cone.slipping());
+  g = cone.grip(-0.1 * n + 5.0 * t, n);
+  EXPECT_EQ(g.force, -0.1 * n + 5.0 * t);
+  EXPECT_EQ(g.keep, 1);
+  EXPECT_FALSE(cone.slipping());
+}
+
 TEST(FrictionCone, LiftingOffEndsTheSlip) {
   FrictionCone cone({0.2, 0.1});
   Eigen::Vector3d proxy = cone.slide({0, 0, 0}, kUp, {0, 0, -0.001});
