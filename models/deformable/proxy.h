@@ -1,0 +1,66 @@
+// The god-object of haptic rendering (Zilles and Salisbury 1995; Ruspini
+// et al. 1997) on a triangle mesh: the proxy is a material point of the
+// mesh, a face and barycentric coordinates on it, so that it rides on the
+// surface as the surface deforms. It is placed where the device point's
+// path (HIP) first crossed the surface from outside, and moves over the
+// faces only when friction lets it (models/haptic/friction.h). The stylus
+// is a point: its tip has no radius here.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace hcosim::models::deformable {
+
+// A point on a face: its vertices' weights, >= 0, summing to 1.
+struct SurfacePoint {
+  int face = -1;  // -1: none
+  Eigen::Vector3d bary = Eigen::Vector3d::Zero();
+};
+
+class MeshProxy {
+ public:
+  // `triangles` index `vertices` positions, counter-clockwise seen from
+  // outside. Throws std::invalid_argument for an index outside them or no
+  // triangle.
+  MeshProxy(std::vector<Eigen::Vector3i> triangles, int vertices);
+
+  // Where the HIP, at `from` over the surface at positions `before`
+  // and at `to` under it at positions `after` (3 x vertices, world, m),
+  // went in: the crossing nearest `from` among `faces` (every face when
+  // null), placed on the surface `after`; face -1 if it did not go in. A
+  // HIP held still that a moving surface comes onto goes in too.
+  SurfacePoint entry(const Eigen::Matrix3Xd& before, const Eigen::Matrix3Xd& after, const Eigen::Vector3d& from,
+                     const Eigen::Vector3d& to, const std::vector<int>* faces = nullptr) const;
+
+  // The point of the mesh nearest q, found by walking from `start` over
+  // the faces sharing a vertex with the current one: the proxy's new
+  // material point after a slide of a few faces at most.
+  SurfacePoint nearest(const Eigen::Matrix3Xd& x, SurfacePoint start, const Eigen::Vector3d& q) const;
+
+  // A face's outward unit normal (+z for a collapsed face), and the
+  // surface's smooth one at p: its vertices' area-weighted normals blended
+  // by p's weights. A proxy pushed along its face's normal flips between
+  // the two faces of a crease and shakes a membrane; along the smooth one
+  // it is pushed the same way from either side.
+  Eigen::Vector3d normal(const Eigen::Matrix3Xd& x, int face) const;
+  Eigen::Vector3d normal(const Eigen::Matrix3Xd& x, const SurfacePoint& p) const;
+  // Where p is at positions x.
+  Eigen::Vector3d point(const Eigen::Matrix3Xd& x, const SurfacePoint& p) const;
+
+  const Eigen::Vector3i& triangle(int face) const { return triangles_[face]; }
+  int faces() const { return int(triangles_.size()); }
+
+ private:
+  std::vector<Eigen::Vector3i> triangles_;
+  std::vector<std::vector<int>> ring_;      // per face: the faces sharing a vertex with it, itself included
+  std::vector<std::vector<int>> incident_;  // per vertex: its faces
+};
+
+// The point of triangle (a, b, c) nearest p, as barycentric weights.
+Eigen::Vector3d nearest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                    const Eigen::Vector3d& c);
+
+}  // namespace hcosim::models::deformable
