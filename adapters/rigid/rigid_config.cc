@@ -1,5 +1,7 @@
 #include "adapters/rigid/rigid_config.h"
 
+#include "adapters/device/friction_config.h"
+
 namespace hcosim::adapters::rigid {
 namespace {
 
@@ -7,22 +9,6 @@ models::rigid::Material material(const Config& p, const std::string& prefix, mod
   m.restitution = p.number(prefix + "restitution", m.restitution, 0, 1);
   m.friction = p.number(prefix + "friction", m.friction, 0, 10);
   return m;
-}
-
-// `friction`: one coefficient (static and dynamic alike) or {static,
-// dynamic}; 0.3 when absent.
-models::haptic::Friction friction(const Config& o) {
-  if (!o.has("friction")) return {};
-  if (!o.node()["friction"].IsMap()) {
-    const double mu = o.number("friction", 0.3, 0, 10);
-    return {mu, mu};
-  }
-  const Config f = o.map("friction");
-  f.allow_only({"static", "dynamic"});
-  f.require({"static", "dynamic"}, "'friction'");
-  const models::haptic::Friction out{f.number("static", 0, 0, 10), f.number("dynamic", 0, 0, 10)};
-  if (out.dynamic_mu > out.static_mu) f.fail("dynamic", "'dynamic' friction must not exceed 'static'");
-  return out;
 }
 
 models::rigid::Body body(const Config& o, bool ground) {
@@ -67,7 +53,7 @@ RigidConfig rigid_config(const Config& p) {
       if (n == name) o.fail("name", "two bodies are named '" + name + "'");
     r.names.push_back(name);
     r.bodies.push_back(body(o, r.spec.ground));
-    r.frictions.push_back(friction(o));
+    r.frictions.push_back(device::friction_config(o));
   }
   if (r.bodies.empty()) p.fail("bodies", "hcosim_rigid: params.bodies lists no body; docs/rigid.md");
   return r;

@@ -60,15 +60,18 @@ TEST_P(DeformableReach, NoContactBeginsOutsideIt) {
       }
 }
 
-// The same approach just inside the reach's top face, from above, touches.
-TEST_P(DeformableReach, AContactBeginsJustInsideItsTop) {
+// A HIP coming down over the middle from above the reach touches before
+// it is half a millimetre under the object's drawn top, and inside the
+// reach.
+TEST_P(DeformableReach, AContactBeginsAtItsTopInsideTheReach) {
   const std::unique_ptr<Object> o = make(GetParam());
   const Eigen::AlignedBox3d r = o->reach();
-  const Eigen::Vector3d c = r.center();
-  const Eigen::Vector3d top(c.x() + 1e-4, c.y() + 1e-4, r.max().z() - 5e-4);
+  const double top = o->surface().row(2).maxCoeff();
+  Eigen::Vector3d p(r.center().x() + 1e-4, r.center().y() + 1e-4, r.max().z() + 1e-3);
   Touch t;
-  for (int n = 0; n < 3; ++n) t = o->touch(kDt, top, false);
-  EXPECT_TRUE(t.in_contact) << "no contact just inside the reach at " << top.transpose();
+  for (; p.z() > top - 5e-4 && !t.in_contact; p.z() -= 1e-5) t = o->touch(kDt, p, false);
+  EXPECT_TRUE(t.in_contact) << "no contact down to " << p.transpose();
+  EXPECT_TRUE(r.contains(p)) << "contact at " << p.transpose() << " outside the reach";
 }
 
 INSTANTIATE_TEST_SUITE_P(, DeformableReach, ::testing::Values("hybrid", "sheet", "semisphere"),
