@@ -14,7 +14,7 @@ ObjectConfig object(const Config& o, double servo_dt) {
   const auto centre = o.vec3("centre", {0, 0, c.model == "hybrid" ? 0.05 : 0});
   if (c.model == "hybrid") {
     o.allow_only({"name", "model", "centre", "size", "elements", "stiff_ratio", "map", "keep", "behavior_rate",
-                  "visual_subdivisions", "rounding"});
+                  "visual_subdivisions", "rounding", "friction"});
     models::deformable::HybridSpec& s = c.hybrid;
     s.centre = {centre[0], centre[1], centre[2]};
     s.size = o.number("size", s.size, 0.01, 2);
@@ -25,6 +25,7 @@ ObjectConfig object(const Config& o, double servo_dt) {
     s.behavior.dt = 1 / o.number("behavior_rate", 1000, 10, 10000);
     s.visual_subdivisions = o.whole("visual_subdivisions", s.visual_subdivisions, 1, 300);
     s.visual_exponent = o.number("rounding", s.visual_exponent, 2, 64);
+    s.friction = device::friction_config(o);
     return c;
   }
   o.allow_only(

@@ -84,10 +84,17 @@ Touch ElasticSurface::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
   need(hip.allFinite(), "the haptic point must be finite");
   loads_.clear();
   bool entering = false;  // until the HIP, on its way through the tick, is in
-  if (contact_.face < 0 && has_last_ && reach().contains(hip)) {
-    contact_ = mesh_->entry(last_x_, state_.x, last_hip_, hip);
+  if (contact_.face < 0 && reach().contains(hip)) {
+    if (has_last_) {
+      contact_ = mesh_->entry(last_x_, state_.x, last_hip_, hip);
+      entering = contact_.face >= 0;
+    } else {
+      // The first HIP seen (a service started with the stylus in the
+      // surface) has no path in: it touches at the nearest point.
+      const SurfacePoint p = mesh_->closest(state_.x, hip);
+      if (mesh_->behind(state_.x, p, hip)) contact_ = p;
+    }
     cone_.release();
-    entering = contact_.face >= 0;
   }
   const Eigen::Vector3d last = has_last_ ? last_hip_ : hip;
   last_hip_ = hip, last_x_ = state_.x, has_last_ = true;

@@ -51,7 +51,9 @@ class ElasticSurface final : public Object {
   explicit ElasticSurface(const SurfaceSpec& spec);
 
   // The HIP touches where its path crosses the current surface from
-  // outside (sheet: from +z; semi-sphere: from outside the dome), and stays
+  // outside (sheet: from +z; semi-sphere: from outside the dome), or, for
+  // the first HIP seen, at the surface's nearest point if it is behind it;
+  // and it stays
   // in contact while the coupling pushes it out (or, with `grab`, until
   // grab ends: then it pulls too, and sticks). The coupling is implicit in
   // the touched vertices' inertia, so that a light membrane neither runs

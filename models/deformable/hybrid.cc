@@ -103,7 +103,7 @@ Weights mvc_map(const HybridSpec& spec, const Eigen::Matrix3Xd& cage, const std:
 }
 
 Hybrid::Hybrid(const HybridSpec& spec, const MapSource& map)
-    : spec_(spec), chains_(hybrid_chains(spec), spec.relax_rate, spec.limit_stiffness) {
+    : spec_(spec), chains_(hybrid_chains(spec), spec.relax_rate, spec.limit_stiffness), cone_(spec.friction) {
   masses_ = std::make_unique<models::massspring::Simulator>(hybrid_masses(spec), spec.behavior);
   state_ = models::massspring::rest_state(masses_->lattice());
   lo_ = corner(spec), hi_ = lo_ + Eigen::Vector3d::Constant(spec.size);
@@ -123,51 +123,88 @@ Hybrid::Hybrid(const HybridSpec& spec, const MapSource& map)
          "the visual map must have a row per visual vertex and a column per cage vertex");
   }
   columns_ = weights_.cast<float>();
+  mesh_ = std::make_unique<MeshProxy>(visual_.triangles, int(visual_.vertices.cols()));
+  // Cells of about two visual edges: a tick's path meets a few of them.
+  const double edge = spec.size / spec.visual_subdivisions;
+  faces_ = std::make_unique<FaceGrid>(visual_.vertices, visual_.triangles, 2 * edge, 1e-9);
+  tick_load_.setZero(3, lat.size());
+  load_sum_.setZero(3, lat.size());
+}
+
+Eigen::Vector3d Hybrid::proxy() const {
+  return contact_.face < 0 ? last_hip_ : mesh_->point(visual_.vertices, contact_);
 }
 
 Touch Hybrid::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
   need(dt > 0 && std::isfinite(dt), "dt must be finite and > 0");
   need(hip.allFinite(), "the haptic point must be finite");
-  const bool inside = (hip.array() >= lo_.array()).all() && (hip.array() <= hi_.array()).all();
-  if (contact_ < 0 && inside) {
-    contact_ = chains_.nearest_surface(hip);
-    // The face entered: the one nearest the entry point.
-    double best = 1e300;
-    for (int c = 0; c < 3; ++c)
-      for (const int side : {-1, 1}) {
-        const double d = side > 0 ? hi_[c] - hip[c] : hip[c] - lo_[c];
-        if (d < best) best = d, normal_ = side * Eigen::Vector3d::Unit(c);
-      }
-  } else if (contact_ >= 0 && !inside && !grab) {
-    contact_ = -1;
+  const Eigen::Matrix3Xd& rest = visual_.vertices;
+  if (contact_.face < 0 && reach().contains(hip)) {
+    if (has_last_) {
+      Eigen::AlignedBox3d path(last_hip_);
+      path.extend(hip);
+      const std::vector<int> near = faces_->near(path);
+      contact_ = mesh_->entry(rest, rest, last_hip_, hip, &near);
+    } else {
+      // The first HIP seen (a service started with the stylus inside) has
+      // no path in: it touches at the surface's nearest point.
+      const SurfacePoint p = mesh_->closest(rest, hip);
+      if (mesh_->behind(rest, p, hip)) contact_ = p;
+    }
+    cone_.release();
   }
-  chains_.tick(dt, contact_, hip);
+  last_hip_ = hip, has_last_ = true;
+  tick_load_.setZero();
+  Eigen::Vector3d p, n, offset;
+  if (contact_.face >= 0) {
+    p = mesh_->point(rest, contact_), n = mesh_->normal(rest, contact_), offset = hip - p;
+    if (!grab && offset.dot(n) > 0) contact_ = {}, cone_.release();  // back outside
+  }
+  if (contact_.face < 0) {
+    chains_.tick(dt, -1, hip);
+    return {};
+  }
+  // The chain element nearest the proxy, moved by the HIP's offset from it.
+  const int e = chains_.nearest_surface(p);
+  chains_.tick(dt, e, chains_.lattice().rest(e) + offset);
+  Eigen::Vector3d force = chains_.force();
+  const SurfacePoint at = contact_;  // where this tick's force acts
+  if (!grab && force.dot(n) <= 0) {
+    force.setZero();  // chains that do not push do not pull either
+  } else if (!grab) {
+    // Friction holds the proxy, or lets it slide over the faces by the
+    // share of the offset it does not hold.
+    const haptic::FrictionCone::Grip g = cone_.grip(force, n);
+    force = g.force;
+    if (g.keep < 1) contact_ = mesh_->nearest(rest, at, p + (1 - g.keep) * (offset - offset.dot(n) * n));
+  }
+  // The behavior model takes the opposite, from the visual vertices of the
+  // proxy's face through the map's weights (whose rows sum to one).
+  const Eigen::Vector3i& tri = mesh_->triangle(at.face);
+  for (int k = 0; k < 3; ++k)
+    for (Weights::InnerIterator w(weights_, tri[k]); w; ++w)
+      tick_load_.col(cage_[w.col()]) -= at.bary[k] * w.value() * force;
+  load_sum_ += tick_load_, ++load_ticks_;
   Touch t;
-  t.force = chains_.force();
-  if (contact_ < 0) return t;
   t.in_contact = true;
-  t.depth = std::max(0.0, (chains_.lattice().rest(contact_) - hip).dot(normal_));
-  t.stiffness = t.depth > 1e-9 ? std::max(0.0, t.force.dot(normal_)) / t.depth : 0;
-  t.normal = normal_;
+  t.force = force;
+  t.normal = n;
+  t.depth = std::max(0.0, -offset.dot(n));
+  t.stiffness = t.depth > 1e-9 ? std::max(0.0, force.dot(n)) / t.depth : 0;
   return t;
 }
 
 void Hybrid::couple() {
-  const double dt = spec_.behavior.dt;
-  // Chains that came back to rest let their masses go, still.
-  for (const int i : held_)
-    if (chains_.displacement(i).isZero()) masses_->hold(i, false), state_.v.col(i).setZero();
-  held_.clear();
-  for (const int e : chains_.moved()) {  // anchors never move
-    const Eigen::Vector3d x = chains_.lattice().rest(e) + chains_.displacement(e);
-    state_.v.col(e) = (x - state_.x.col(e)) / dt;
-    state_.x.col(e) = x;
-    if (!masses_->held(e)) masses_->hold(e, true);
-    held_.push_back(e);
+  loads_.clear();
+  if (load_ticks_ > 0) {
+    for (int i = 0; i < load_sum_.cols(); ++i)
+      if (!load_sum_.col(i).isZero()) loads_.push_back({i, load_sum_.col(i) / load_ticks_});
+    load_sum_.setZero();
+    load_ticks_ = 0;
   }
 }
 
-void Hybrid::integrate() { simulated_ = masses_->step(state_, {}).simulated; }
+void Hybrid::integrate() { simulated_ = masses_->step(state_, loads_).simulated; }
 
 Eigen::Matrix3Xd Hybrid::cage() const {
   const models::massspring::Lattice& lat = masses_->lattice();

@@ -1,9 +1,11 @@
 // The hybrid deformable model (001 §II, Fig 3, 4, 6): an S-Chain haptic
-// model computes the force at the servo rate; its moved chains are held
-// in an adaptive mass-spring behavior model on the same lattice, which runs
-// at its own rate; a dense visual mesh follows the behavior lattice through
-// a precomputed map. One cube resting on its anchored bottom face, as in
-// 001 Fig 7 and 8.
+// model computes the force at the servo rate; an adaptive mass-spring
+// behavior model on the same lattice, which runs at its own rate, takes the
+// opposite of that force; a dense visual mesh follows the behavior lattice
+// through a precomputed map. The stylus touches the visual surface, the
+// one drawn, through a proxy on it (models/deformable/proxy.h) with
+// friction. One cube resting on its anchored bottom face, as in 001 Fig 7
+// and 8.
 #pragma once
 
 #include <functional>
@@ -12,7 +14,9 @@
 
 #include "models/deformable/mvc.h"
 #include "models/deformable/object.h"
+#include "models/deformable/proxy.h"
 #include "models/deformable/schain.h"
+#include "models/haptic/friction.h"
 #include "models/massspring/mesh_lattice.h"
 #include "models/massspring/simulator.h"
 
@@ -51,6 +55,7 @@ struct HybridSpec {
   // m: cage motions below this are not mapped (apply_moved); 10 um is a
   // hundredth of a pixel for a 600 px focal length at 0.5 m.
   double visual_tolerance = 1e-5;
+  haptic::Friction friction;  // the stylus on the surface
 };
 
 // Throws std::invalid_argument naming the first bad field.
@@ -82,14 +87,20 @@ class Hybrid final : public Object {
   // it must return points x cage weights. Ignored for the trilinear map.
   explicit Hybrid(const HybridSpec& spec, const MapSource& map = {});
 
-  // The HIP touches when it enters the cube's rest box; the surface element
-  // nearest the entry point follows it until it leaves (or, with `grab`,
-  // until grab ends).
+  // The HIP touches where its path crosses the visual rest surface from
+  // outside, or, for the first HIP seen, at the surface's nearest point if
+  // it is inside: a proxy there (a material point of the visual mesh) stays on
+  // that surface, sliding over it as friction lets it, until the HIP is
+  // back outside its tangent plane (or, with `grab`, until grab ends: then
+  // it sticks and may pull). The S-Chain element nearest the proxy is moved
+  // by the HIP's offset from the proxy; the chains' force is the force on
+  // the stylus, kept inside the friction cone.
   Touch touch(double dt, const Eigen::Vector3d& hip, bool grab) override;
   double behavior_dt() const override { return spec_.behavior.dt; }
-  // couple(): holds each moved chain's mass at the chain's position and
-  // releases the masses whose chains came back to rest; integrate(): steps
-  // the behavior model.
+  // couple(): the behavior model's loads for its next step, the opposite of
+  // the forces felt since the last one (their mean), spread from the
+  // proxy's visual vertices over the masses the map reads by the map's own
+  // weights; integrate(): steps the behavior model under them.
   void couple() override;
   void integrate() override;
   // cage(): the displacements of the masses the map reads. surface_from:
@@ -109,6 +120,13 @@ class Hybrid final : public Object {
   const Weights& map() const { return weights_; }
   const std::vector<int>& cage_masses() const { return cage_; }  // masses the map reads, in its column order
   int simulated() const { return simulated_; }                   // masses the last behavior step integrated
+  // The proxy's material point on the visual mesh (face -1: no contact),
+  // and where it is on the rest surface.
+  const SurfacePoint& contact() const { return contact_; }
+  Eigen::Vector3d proxy() const;
+  // N, by mass: the load the last touch() put on the behavior model; its
+  // sum is minus the force felt (the map's rows sum to one).
+  const Eigen::Matrix3Xd& tick_load() const { return tick_load_; }
 
  private:
   HybridSpec spec_;
@@ -120,9 +138,16 @@ class Hybrid final : public Object {
   Weights weights_;
   ColumnWeights columns_;    // weights_ by columns, for apply_moved
   Eigen::Vector3d lo_, hi_;  // m, the rest box
-  int contact_ = -1;
-  Eigen::Vector3d normal_ = Eigen::Vector3d::UnitZ();  // outward normal of the face entered
-  std::vector<int> held_;                              // masses held last step
+  std::unique_ptr<MeshProxy> mesh_;
+  std::unique_ptr<FaceGrid> faces_;  // of the visual rest mesh, for entry
+  haptic::FrictionCone cone_;
+  SurfacePoint contact_;
+  Eigen::Vector3d last_hip_ = Eigen::Vector3d::Zero();
+  bool has_last_ = false;
+  Eigen::Matrix3Xd tick_load_;                         // N, by mass: the last touch's
+  Eigen::Matrix3Xd load_sum_;                          // N, by mass: summed over the touches since couple()
+  int load_ticks_ = 0;                                 // touches summed
+  std::vector<models::massspring::PointForce> loads_;  // the next behavior step's
   int simulated_ = 0;
 };
 

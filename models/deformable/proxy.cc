@@ -131,6 +131,18 @@ SurfacePoint MeshProxy::entry(const Eigen::Matrix3Xd& before, const Eigen::Matri
   return best;
 }
 
+SurfacePoint MeshProxy::closest(const Eigen::Matrix3Xd& x, const Eigen::Vector3d& q) const {
+  SurfacePoint best;
+  double d = INFINITY;
+  for (int f = 0; f < faces(); ++f) {
+    const Eigen::Vector3i& t = triangles_[f];
+    const Eigen::Vector3d b = nearest_on_triangle(q, x.col(t[0]), x.col(t[1]), x.col(t[2]));
+    const double e = (b[0] * x.col(t[0]) + b[1] * x.col(t[1]) + b[2] * x.col(t[2]) - q).squaredNorm();
+    if (e < d) d = e, best = {f, b};
+  }
+  return best;
+}
+
 SurfacePoint MeshProxy::nearest(const Eigen::Matrix3Xd& x, SurfacePoint at, const Eigen::Vector3d& q) const {
   auto on = [&](int f, const Eigen::Vector3d& b) {
     const Eigen::Vector3i& t = triangles_[f];
@@ -152,6 +164,50 @@ SurfacePoint MeshProxy::nearest(const Eigen::Matrix3Xd& x, SurfacePoint at, cons
     at = next;
   }
   return at;
+}
+
+FaceGrid::FaceGrid(const Eigen::Matrix3Xd& x, const std::vector<Eigen::Vector3i>& triangles, double cell, double margin)
+    : cell_(cell) {
+  need(cell > 0 && std::isfinite(cell) && margin >= 0 && std::isfinite(margin),
+       "a face grid needs a finite cell > 0 and margin >= 0");
+  need(x.cols() > 0 && x.allFinite(), "a face grid needs finite positions");
+  origin_ = x.rowwise().minCoeff().array() - margin;
+  const Eigen::Vector3d extent = x.rowwise().maxCoeff().array() + margin - origin_.array();
+  for (int c = 0; c < 3; ++c) dims_[c] = std::clamp(int(std::ceil(extent[c] / cell)), 1, 256);
+  bins_.resize(std::size_t(dims_.prod()));
+  for (int f = 0; f < int(triangles.size()); ++f) {
+    Eigen::AlignedBox3d box;
+    for (int c = 0; c < 3; ++c) box.extend(x.col(triangles[f][c]));
+    const Eigen::Vector3d lo = box.min().array() - margin, hi = box.max().array() + margin;
+    Eigen::Vector3i a, b;
+    for (int c = 0; c < 3; ++c) {
+      a[c] = std::clamp(int(std::floor((lo[c] - origin_[c]) / cell)), 0, dims_[c] - 1);
+      b[c] = std::clamp(int(std::floor((hi[c] - origin_[c]) / cell)), 0, dims_[c] - 1);
+    }
+    for (int k = a.z(); k <= b.z(); ++k)
+      for (int j = a.y(); j <= b.y(); ++j)
+        for (int i = a.x(); i <= b.x(); ++i) bins_[i + dims_.x() * (j + dims_.y() * k)].push_back(f);
+  }
+}
+
+std::vector<int> FaceGrid::near(const Eigen::AlignedBox3d& box) const {
+  std::vector<int> out;
+  Eigen::Vector3i a, b;
+  for (int c = 0; c < 3; ++c) {
+    const double lo = (box.min()[c] - origin_[c]) / cell_, hi = (box.max()[c] - origin_[c]) / cell_;
+    if (!(hi >= 0 && lo < dims_[c])) return out;  // outside the grid, or NaN
+    a[c] = std::max(0, int(std::floor(lo)));
+    b[c] = std::min(dims_[c] - 1, int(std::floor(hi)));
+  }
+  for (int k = a.z(); k <= b.z(); ++k)
+    for (int j = a.y(); j <= b.y(); ++j)
+      for (int i = a.x(); i <= b.x(); ++i) {
+        const std::vector<int>& bin = bins_[i + dims_.x() * (j + dims_.y() * k)];
+        out.insert(out.end(), bin.begin(), bin.end());
+      }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
 }
 
 }  // namespace hcosim::models::deformable

@@ -35,6 +35,15 @@ class MeshProxy {
   SurfacePoint entry(const Eigen::Matrix3Xd& before, const Eigen::Matrix3Xd& after, const Eigen::Vector3d& from,
                      const Eigen::Vector3d& to, const std::vector<int>* faces = nullptr) const;
 
+  // The point of the mesh nearest q, among all faces: where a HIP with no
+  // path from outside (the first one seen) is put.
+  SurfacePoint closest(const Eigen::Matrix3Xd& x, const Eigen::Vector3d& q) const;
+  // Whether q is behind the mesh at p (its point nearest q): inside, for
+  // a closed mesh.
+  bool behind(const Eigen::Matrix3Xd& x, const SurfacePoint& p, const Eigen::Vector3d& q) const {
+    return (q - point(x, p)).dot(normal(x, p)) < 0;
+  }
+
   // The point of the mesh nearest q, found by walking from `start` over
   // the faces sharing a vertex with the current one: the proxy's new
   // material point after a slide of a few faces at most.
@@ -62,5 +71,21 @@ class MeshProxy {
 // The point of triangle (a, b, c) nearest p, as barycentric weights.
 Eigen::Vector3d nearest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                                     const Eigen::Vector3d& c);
+
+// Faces binned on a uniform grid by their boxes at positions x, for
+// entry() on a mesh that does not move (the hybrid model's rest surface).
+class FaceGrid {
+ public:
+  // cell: m, > 0; a face's box is grown by `margin` (m, >= 0) before binning.
+  FaceGrid(const Eigen::Matrix3Xd& x, const std::vector<Eigen::Vector3i>& triangles, double cell, double margin);
+  // The faces whose grown boxes may meet `box`, each once.
+  std::vector<int> near(const Eigen::AlignedBox3d& box) const;
+
+ private:
+  Eigen::Vector3d origin_;
+  Eigen::Vector3i dims_;
+  double cell_;
+  std::vector<std::vector<int>> bins_;
+};
 
 }  // namespace hcosim::models::deformable

@@ -14,7 +14,8 @@ Config params(const std::string& text) { return Config::parse(text, "d.yaml", "p
 TEST(DeformableConfig, ReadsEachObjectsSpec) {
   const DeformableConfig d = deformable_config(
       params("device: right\nvisual_rate: 60\nobjects:\n"
-             "  - {name: organ, size: 0.06, elements: 5, stiff_ratio: 3, map: trilinear, behavior_rate: 500}\n"
+             "  - {name: organ, size: 0.06, elements: 5, stiff_ratio: 3, map: trilinear, behavior_rate: 500,"
+             " friction: 0.6}\n"
              "  - {name: skin, model: sheet, size: 0.1, resolution: 12, stiffness: 40, centre: [0, 0, 0.01],"
              " friction: {static: 0.5, dynamic: 0.2}}\n"
              "  - {name: dome, model: semisphere, bending: 2, friction: 0}\n"),
@@ -30,6 +31,8 @@ TEST(DeformableConfig, ReadsEachObjectsSpec) {
   EXPECT_EQ(h.map, models::deformable::VisualMap::trilinear);
   EXPECT_DOUBLE_EQ(h.behavior.dt, 0.002);
   EXPECT_EQ(h.centre, Eigen::Vector3d(0, 0, 0.05));  // a hybrid stands on the marker by default
+  EXPECT_EQ(h.friction.static_mu, 0.6);
+  EXPECT_EQ(h.friction.dynamic_mu, 0.6);
   const models::deformable::SurfaceSpec& s = d.objects[1].surface;
   EXPECT_EQ(s.shape, models::deformable::Shape::sheet);
   EXPECT_EQ(s.resolution, 12);

@@ -69,6 +69,17 @@ TEST(ElasticSurface, SheetPressedPushesBackAndRecovers) {  // 000 §2.2
   EXPECT_THROW(sheet.touch(2e-3, Eigen::Vector3d::Zero(), false), std::invalid_argument);
 }
 
+// The first HIP seen under the sheet (a service started with the stylus
+// pressing it) touches at the nearest point; over it, nothing.
+TEST(ElasticSurface, AFirstHipBehindTheSurfaceTouchesItsNearestPoint) {
+  ElasticSurface under(sheet_spec());
+  const Touch t = under.touch(kDt, Eigen::Vector3d(0.0011, 0.0023, -0.002), false);
+  EXPECT_TRUE(t.in_contact);
+  EXPECT_GT(t.force.z(), 0);
+  ElasticSurface over(sheet_spec());
+  EXPECT_FALSE(over.touch(kDt, Eigen::Vector3d(0.0011, 0.0023, 0.002), false).in_contact);
+}
+
 TEST(ElasticSurface, SemiSphereDentsInwardAndItsMeshFacesOutward) {
   ElasticSurface dome(dome_spec());
   const Eigen::Matrix3Xd x = dome.surface();

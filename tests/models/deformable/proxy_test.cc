@@ -90,6 +90,15 @@ TEST(MeshProxy, TheWalkFindsTheNearestPointFacesAway) {
   }
 }
 
+TEST(MeshProxy, TheClosestPointAmongAllFacesAndWhichSideItIsOn) {
+  const Grid g;
+  const MeshProxy m(g.triangles, 25);
+  const SurfacePoint p = m.closest(g.x, {3.3, 0.6, -0.2});
+  EXPECT_LT((m.point(g.x, p) - Eigen::Vector3d(3.3, 0.6, 0)).norm(), 1e-12);
+  EXPECT_TRUE(m.behind(g.x, p, {3.3, 0.6, -0.2}));
+  EXPECT_FALSE(m.behind(g.x, m.closest(g.x, {3.3, 0.6, 0.2}), {3.3, 0.6, 0.2}));
+}
+
 TEST(MeshProxy, TheSmoothNormalIsOneAcrossACrease) {
   // Two faces folded along the edge x = 1 by 90 degrees: a roof.
   Eigen::Matrix3Xd x(3, 4);
@@ -106,6 +115,26 @@ TEST(MeshProxy, TheSmoothNormalIsOneAcrossACrease) {
   EXPECT_LT((a - b).norm(), 1e-12);
   EXPECT_LT((a - (left + right).normalized()).norm(), 1e-12);
   EXPECT_LT((m.point(x, SurfacePoint{0, {0, 0.5, 0.5}}) - Eigen::Vector3d(1, 0.5, 1)).norm(), 1e-12);
+}
+
+// The grid's candidates hold every face a box meets: entry among them is
+// entry among all.
+TEST(FaceGrid, ItsCandidatesHoldEveryFaceABoxMeets) {
+  const Grid g;
+  const MeshProxy m(g.triangles, 25);
+  const FaceGrid grid(g.x, g.triangles, 0.7, 1e-9);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-0.5, 4.5), z(-1, 1);
+  for (int n = 0; n < 300; ++n) {
+    const Eigen::Vector3d from(u(rng), u(rng), std::abs(z(rng))), to(u(rng), u(rng), -std::abs(z(rng)));
+    Eigen::AlignedBox3d box(from);
+    box.extend(to);
+    const std::vector<int> near = grid.near(box);
+    const SurfacePoint all = m.entry(g.x, g.x, from, to), some = m.entry(g.x, g.x, from, to, &near);
+    ASSERT_EQ(all.face, some.face) << from.transpose() << " to " << to.transpose();
+  }
+  EXPECT_TRUE(grid.near(Eigen::AlignedBox3d(Eigen::Vector3d(9, 9, 9), Eigen::Vector3d(10, 10, 10))).empty());
+  EXPECT_THROW(FaceGrid(g.x, g.triangles, 0, 0), std::invalid_argument);
 }
 
 TEST(MeshProxy, RefusesABadMesh) {
