@@ -86,7 +86,11 @@ Touch ElasticSurface::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
   bool entering = false;  // until the HIP, on its way through the tick, is in
   if (contact_.face < 0 && reach().contains(hip)) {
     if (has_last_) {
-      contact_ = mesh_->entry(last_x_, state_.x, last_hip_, hip);
+      // Only a path that meets the surface's box, then or now, can cross it.
+      Eigen::AlignedBox3d path(last_hip_), surface(state_.x.rowwise().minCoeff(), state_.x.rowwise().maxCoeff());
+      path.extend(hip);
+      surface.extend(Eigen::AlignedBox3d(last_x_.rowwise().minCoeff(), last_x_.rowwise().maxCoeff()));
+      if (path.intersects(surface)) contact_ = mesh_->entry(last_x_, state_.x, last_hip_, hip);
       entering = contact_.face >= 0;
     } else {
       // The first HIP seen (a service started with the stylus in the
