@@ -28,8 +28,7 @@ ObjectConfig object(const Config& o, double servo_dt) {
     s.friction = device::friction_config(o);
     return c;
   }
-  o.allow_only(
-      {"name", "model", "centre", "size", "resolution", "stiffness", "damping", "prestretch", "bending", "friction"});
+  o.allow_only({"name", "model", "centre", "size", "resolution", "stiffness", "damping", "prestretch"});
   models::deformable::SurfaceSpec& s = c.surface;
   s.shape = c.model == "sheet" ? models::deformable::Shape::sheet : models::deformable::Shape::semisphere;
   s.centre = {centre[0], centre[1], centre[2]};
@@ -38,10 +37,6 @@ ObjectConfig object(const Config& o, double servo_dt) {
   s.material.k = o.number("stiffness", s.material.k, 1e-3, 1e5);
   s.material.b = o.number("damping", s.material.b, 0, 1e3);
   s.prestretch = o.number("prestretch", s.prestretch, 0, 0.4);
-  if (c.model == "sheet" && o.has("bending"))
-    o.fail("bending", "'bending' is a semi-sphere's: a sheet keeps its shape by its prestretch");
-  s.bending = o.number("bending", s.bending, 0, 100);
-  s.friction = device::friction_config(o);
   s.options.dt = servo_dt;
   return c;
 }

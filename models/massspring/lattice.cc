@@ -1,7 +1,5 @@
 #include "models/massspring/lattice.h"
 
-#include <algorithm>
-#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -104,28 +102,6 @@ Lattice make_semisphere(int rings, int segments, double radius, const Material& 
       }
     }
   return l;
-}
-
-int add_bending(Lattice& l, const std::vector<Eigen::Vector3i>& triangles, double k, double b) {
-  need(std::isfinite(k) && k >= 0 && std::isfinite(b) && b >= 0, "bending k and b must be finite and >= 0");
-  // Each edge, smaller index first, with the vertex opposite it.
-  std::vector<std::array<int, 3>> edges;
-  for (const Eigen::Vector3i& t : triangles)
-    for (int c = 0; c < 3; ++c) {
-      const int i = t[c], j = t[(c + 1) % 3], o = t[(c + 2) % 3];
-      need(i >= 0 && j >= 0 && o >= 0 && i < l.size() && j < l.size() && o < l.size(),
-           "a triangle names a missing mass");
-      edges.push_back({std::min(i, j), std::max(i, j), o});
-    }
-  std::sort(edges.begin(), edges.end());
-  int added = 0;
-  for (std::size_t e = 0; e + 1 < edges.size(); ++e) {
-    const auto &p = edges[e], &q = edges[e + 1];
-    if (p[0] != q[0] || p[1] != q[1] || p[2] == q[2]) continue;
-    l.springs.push_back({p[2], q[2], (l.rest.col(p[2]) - l.rest.col(q[2])).norm(), k, b});
-    ++added, ++e;
-  }
-  return added;
 }
 
 Lattice make_box(int nx, int ny, int nz, double spacing, const Material& m, Shear shear) {

@@ -56,15 +56,6 @@ Lattice make_sheet(int nx, int ny, double spacing, const Material& material);
 // base ring is anchored.
 Lattice make_semisphere(int rings, int segments, double radius, const Material& material);
 
-// Bending (flexion) springs of a surface lattice: one across each edge that
-// two of `triangles` share, between the vertices opposite it, at its rest
-// length, with stiffness k (N/m) and damping b (N s/m). On a curved
-// surface they resist folding along the edge to first order, which a
-// membrane's springs along its faces do not. Returns how many it added.
-// Throws std::invalid_argument for a triangle naming a missing mass or a
-// negative or non-finite k or b.
-int add_bending(Lattice& lattice, const std::vector<Eigen::Vector3i>& triangles, double k, double b);
-
 // Diagonal layout of shear springs in the box: `one` triangulates each
 // lattice face with a single diagonal, alternating in a checkerboard (a
 // rigid lattice, 5130 springs at 10^3 masses, nearest to 001 Fig 7's 5400);

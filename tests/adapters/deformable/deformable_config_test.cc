@@ -16,9 +16,8 @@ TEST(DeformableConfig, ReadsEachObjectsSpec) {
       params("device: right\nvisual_rate: 60\nobjects:\n"
              "  - {name: organ, size: 0.06, elements: 5, stiff_ratio: 3, map: trilinear, behavior_rate: 500,"
              " friction: 0.6}\n"
-             "  - {name: skin, model: sheet, size: 0.1, resolution: 12, stiffness: 40, centre: [0, 0, 0.01],"
-             " friction: {static: 0.5, dynamic: 0.2}}\n"
-             "  - {name: dome, model: semisphere, bending: 2, friction: 0}\n"),
+             "  - {name: skin, model: sheet, size: 0.1, resolution: 12, stiffness: 40, centre: [0, 0, 0.01]}\n"
+             "  - {name: dome, model: semisphere}\n"),
       0.001);
   EXPECT_EQ(d.device, "right");
   EXPECT_EQ(d.visual_rate_hz, 60);
@@ -39,13 +38,8 @@ TEST(DeformableConfig, ReadsEachObjectsSpec) {
   EXPECT_EQ(s.material.k, 40);
   EXPECT_EQ(s.centre, Eigen::Vector3d(0, 0, 0.01));
   EXPECT_EQ(s.options.dt, 0.001);  // a surface steps with the service
-  EXPECT_EQ(s.friction.static_mu, 0.5);
-  EXPECT_EQ(s.friction.dynamic_mu, 0.2);
-  EXPECT_EQ(s.bending, 0);  // by default
   EXPECT_EQ(d.objects[2].surface.shape, models::deformable::Shape::semisphere);
   EXPECT_EQ(d.objects[2].surface.centre, Eigen::Vector3d::Zero());
-  EXPECT_EQ(d.objects[2].surface.bending, 2);
-  EXPECT_EQ(d.objects[2].surface.friction.dynamic_mu, 0);
 }
 
 TEST(DeformableConfig, TheModelIsTheOneAsked) {
@@ -76,10 +70,7 @@ TEST(DeformableConfig, MistakesAreNamedAtTheirPlace) {
   EXPECT_EQ(error("objects: [{name: a, elements: 2}]\n"),
             "d.yaml:1:31: 'elements' must be a whole number from 3 to 100, not 2");
   EXPECT_EQ(error("objects: [{model: sheet}]\n"), "d.yaml:1:11: each object needs a name of 1 to 31 characters");
-  EXPECT_EQ(error("objects: [{name: a, model: sheet, bending: 1}]\n"),
-            "d.yaml:1:44: 'bending' is a semi-sphere's: a sheet keeps its shape by its prestretch");
-  EXPECT_EQ(error("objects: [{name: a, model: semisphere, friction: 11}]\n"),
-            "d.yaml:1:50: 'friction' = 11 is outside [0, 10]");
+  EXPECT_EQ(error("objects: [{name: a, friction: 11}]\n"), "d.yaml:1:31: 'friction' = 11 is outside [0, 10]");
 }
 
 }  // namespace

@@ -1,8 +1,6 @@
 // Lattice builders (seed 001's box, seed 000's sheet and semi-sphere) and
 // the checks that name a bad lattice's element.
-#include <algorithm>
 #include <cmath>
-#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -34,39 +32,6 @@ TEST(MassspringLattice, SheetAndSemiSphereOfSeed000Figure7) {
     EXPECT_GE(dome.rest(2, i), -1e-12);
   }
   EXPECT_NO_THROW(check(dome));
-}
-
-// One bending spring per inner edge, across it, at its rest length; none
-// on the border.
-TEST(MassspringLattice, BendingSpringsSpanEachInnerEdge) {
-  Lattice pair = make_sheet(2, 2, 0.01, {});
-  const std::vector<Eigen::Vector3i> two{{0, 1, 3}, {0, 3, 2}};
-  const std::size_t before = pair.springs.size();
-  EXPECT_EQ(add_bending(pair, two, 5, 0.1), 1);
-  ASSERT_EQ(pair.springs.size(), before + 1);
-  const Spring& s = pair.springs.back();
-  EXPECT_EQ(std::minmax(s.i, s.j), std::minmax(1, 2));
-  EXPECT_NEAR(s.rest, std::sqrt(2) * 0.01, 1e-15);
-  EXPECT_EQ(s.k, 5);
-  EXPECT_EQ(s.b, 0.1);
-  const int rings = 4, segments = 12;
-  Lattice dome = make_semisphere(rings, segments, 0.05, {});
-  std::vector<Eigen::Vector3i> faces;
-  for (int r = 0; r < rings; ++r)
-    for (int k = 0; k < segments; ++k) {
-      const int a = r * segments + k, b = r * segments + (k + 1) % segments;
-      if (r + 1 < rings) {
-        faces.emplace_back(a, b, b + segments);
-        faces.emplace_back(a, b + segments, a + segments);
-      } else {
-        faces.emplace_back(a, b, rings * segments);
-      }
-    }
-  // Edges: 3 per face, shared pairwise but for the base ring's.
-  EXPECT_EQ(add_bending(dome, faces, 1, 0), (3 * int(faces.size()) - segments) / 2);
-  EXPECT_NO_THROW(check(dome));
-  EXPECT_THROW(add_bending(dome, {{0, 1, 999}}, 1, 0), std::invalid_argument);
-  EXPECT_THROW(add_bending(dome, faces, -1, 0), std::invalid_argument);
 }
 
 TEST(MassspringLattice, BadLatticesNameTheElement) {
