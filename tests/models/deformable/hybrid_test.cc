@@ -276,6 +276,29 @@ TEST(Hybrid, TheForceFeltIsTheLoadTakenStartsWithoutAKickAndHoldsSteady) {
   EXPECT_LT(spread, 0.02 * mean);
 }
 
+// A device's encoder moves the HIP in steps (the Omni's 0.055 mm): the
+// organ's stiff side pressed at 2.75 cm/s in a step every other tick stays
+// touched from its first tick and its force never falls between ticks.
+TEST(Hybrid, AStepwiseHipPressesWithoutChatter) {
+  const HybridSpec s = organ();
+  Hybrid h(s);
+  const Eigen::Vector3d above = s.centre + Eigen::Vector3d(0.006, 0.002, 0.5 * s.size + 0.002);
+  int touched = 0;
+  double last = 0, worst = 1;
+  for (int k = 0; k <= 400; ++k) {
+    const Touch t = h.touch(1e-3, above - Eigen::Vector3d(0, 0, 0.055e-3 * std::min(k / 2, 100)), false);
+    h.advance();
+    if (touched > 0) {
+      ASSERT_TRUE(t.in_contact) << k;
+    }
+    if (t.in_contact) ++touched;
+    if (touched > 20) worst = std::min(worst, t.force.norm() / last);
+    last = t.force.norm();
+  }
+  EXPECT_GT(touched, 250);  // from about tick 120: the ellipsoid is 1.3 mm below the cage's top there
+  EXPECT_GT(worst, 0.95);
+}
+
 // Pushed in one tick from above the top to the cube's centre, then held
 // there for a simulated minute.
 TEST(Hybrid, MinuteLongContactAtTheCentreStaysFinite) {
