@@ -49,14 +49,16 @@ forces=$("$BIN/hcosim" export "$WORK/probe.rec" --topic ForceFeedback 2>/dev/nul
 # a shared-memory port queues, 1024), it reports as lost exactly as many
 # samples as the probe's numbering misses in its recording. So on the
 # best-effort profile (control) and on the reliable one (state), whose
-# writer keeps only its last 16 samples to repair a loss with.
+# writer keeps only its last 16 samples to repair a loss with. The
+# recorder must have matched the probe before it is stopped: under
+# sanitizers and a parallel test it can take more than 2 s to start.
 lost_report=""
 for profile in control state; do
   probe "fast_$profile" 1000 source ", profile: $profile"
   source_pid=${PIDS[-1]}
-  start "rec_$profile" "$BIN/hcosim" record "$WORK/$profile.rec" --topics HapticState --duration 6
+  start "rec_$profile" "$BIN/hcosim" record "$WORK/$profile.rec" --topics HapticState --duration $((6 * SLOWDOWN))
   rec=${PIDS[-1]}
-  sleep 2
+  sleep $((2 * SLOWDOWN))
   kill -STOP "$rec"
   sleep 2.5
   kill -CONT "$rec"
