@@ -24,8 +24,14 @@ done
 sed -i 's/fail_after: 1/fail_after: 0/' "$WORK/fail.yaml"
 "$BIN/hcosim" up "$WORK/fail.yaml" --out "$WORK/out" >"$WORK/up2.log" 2>&1 &
 up=$!
+# Both started lines, waited for: under sanitizers and a parallel test the
+# second can come after a fixed 2 s.
+for _ in $(seq $((40 * SLOWDOWN))); do
+  pids=$(sed -nE 's/.*started +[a-z]+ +pid ([0-9]+).*/\1/p' "$WORK/up2.log")
+  [ "$(echo "$pids" | wc -w)" -eq 2 ] && break
+  sleep 0.1
+done
 sleep 2
-pids=$(sed -nE 's/.*started +[a-z]+ +pid ([0-9]+).*/\1/p' "$WORK/up2.log")
 [ "$(echo "$pids" | wc -w)" -eq 2 ] || fail "expected 2 services started: $(cat "$WORK/up2.log")"
 t0=$(date +%s%N)
 kill -INT $up
