@@ -143,8 +143,8 @@ Touch Hybrid::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
     if (has_last_) {
       Eigen::AlignedBox3d path(last_hip_);
       path.extend(hip);
-      const std::vector<int> near = faces_->near(path);
-      contact_ = mesh_->entry(rest, rest, last_hip_, hip, &near);
+      faces_->near(path, near_);
+      contact_ = mesh_->entry(rest, last_hip_, hip, &near_);
     } else {
       // The first HIP seen (a service started with the stylus inside) has
       // no path in: it touches at the surface's nearest point.

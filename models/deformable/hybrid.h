@@ -140,6 +140,7 @@ class Hybrid final : public Object {
   Eigen::Vector3d lo_, hi_;  // m, the rest box
   std::unique_ptr<MeshProxy> mesh_;
   std::unique_ptr<FaceGrid> faces_;  // of the visual rest mesh, for entry
+  std::vector<int> near_;            // the faces near the HIP's path, kept between ticks
   haptic::FrictionCone cone_;
   SurfacePoint contact_;
   Eigen::Vector3d last_hip_ = Eigen::Vector3d::Zero();

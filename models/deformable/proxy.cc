@@ -94,28 +94,25 @@ Eigen::Vector3d MeshProxy::point(const Eigen::Matrix3Xd& x, const SurfacePoint& 
   return p.bary[0] * x.col(t[0]) + p.bary[1] * x.col(t[1]) + p.bary[2] * x.col(t[2]);
 }
 
-SurfacePoint MeshProxy::entry(const Eigen::Matrix3Xd& before, const Eigen::Matrix3Xd& after,
-                              const Eigen::Vector3d& from, const Eigen::Vector3d& to,
+SurfacePoint MeshProxy::entry(const Eigen::Matrix3Xd& x, const Eigen::Vector3d& from, const Eigen::Vector3d& to,
                               const std::vector<int>* faces) const {
-  // Signed height of p over face t's plane at positions x.
-  auto height = [](const Eigen::Matrix3Xd& x, const Eigen::Vector3i& t, const Eigen::Vector3d& p) {
-    const Eigen::Vector3d a = x.col(t[0]), n = (x.col(t[1]) - a).cross(x.col(t[2]) - a);
-    const double len = n.norm();
-    return len > 0 ? (p - a).dot(n) / len : -1.0;
-  };
   SurfacePoint best;
   double first = 2;  // the crossing's share of the way from `from` to `to`
   const int count = faces ? int(faces->size()) : this->faces();
   for (int i = 0; i < count; ++i) {
     const int f = faces ? (*faces)[i] : i;
     const Eigen::Vector3i& t = triangles_[f];
-    const double s0 = height(before, t, from), s1 = height(after, t, to);
+    const Eigen::Vector3d a = x.col(t[0]), e1 = x.col(t[1]) - a, e2 = x.col(t[2]) - a;
+    const Eigen::Vector3d area = e1.cross(e2);
+    const double len = area.norm();
+    if (!(len > 0)) continue;
+    // Signed heights over the face's plane: outside before, inside after.
+    const Eigen::Vector3d n = area / len;
+    const double s0 = (from - a).dot(n), s1 = (to - a).dot(n);
     if (s0 < 0 || s1 >= 0) continue;
     const double u = s0 / (s0 - s1);
     if (u >= first) continue;
-    // Where the HIP then is on the face after, in barycentric weights.
-    const Eigen::Vector3d a = after.col(t[0]), e1 = after.col(t[1]) - a, e2 = after.col(t[2]) - a;
-    const Eigen::Vector3d n = e1.cross(e2).normalized();
+    // Where the HIP then is on the face, in barycentric weights.
     Eigen::Vector3d q = from + u * (to - from) - a;
     q -= q.dot(n) * n;
     const double d11 = e1.dot(e1), d12 = e1.dot(e2), d22 = e2.dot(e2), d1 = q.dot(e1), d2 = q.dot(e2);
@@ -190,12 +187,12 @@ FaceGrid::FaceGrid(const Eigen::Matrix3Xd& x, const std::vector<Eigen::Vector3i>
   }
 }
 
-std::vector<int> FaceGrid::near(const Eigen::AlignedBox3d& box) const {
-  std::vector<int> out;
+void FaceGrid::near(const Eigen::AlignedBox3d& box, std::vector<int>& out) const {
+  out.clear();
   Eigen::Vector3i a, b;
   for (int c = 0; c < 3; ++c) {
     const double lo = (box.min()[c] - origin_[c]) / cell_, hi = (box.max()[c] - origin_[c]) / cell_;
-    if (!(hi >= 0 && lo < dims_[c])) return out;  // outside the grid, or NaN
+    if (!(hi >= 0 && lo < dims_[c])) return;  // outside the grid, or NaN
     a[c] = std::max(0, int(std::floor(lo)));
     b[c] = std::min(dims_[c] - 1, int(std::floor(hi)));
   }
@@ -207,7 +204,6 @@ std::vector<int> FaceGrid::near(const Eigen::AlignedBox3d& box) const {
       }
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
-  return out;
 }
 
 }  // namespace hcosim::models::deformable

@@ -27,13 +27,12 @@ class MeshProxy {
   // triangle.
   MeshProxy(std::vector<Eigen::Vector3i> triangles, int vertices);
 
-  // Where the HIP, at `from` over the surface at positions `before`
-  // and at `to` under it at positions `after` (3 x vertices, world, m),
-  // went in: the crossing nearest `from` among `faces` (every face when
-  // null), placed on the surface `after`; face -1 if it did not go in. A
-  // HIP held still that a moving surface comes onto goes in too.
-  SurfacePoint entry(const Eigen::Matrix3Xd& before, const Eigen::Matrix3Xd& after, const Eigen::Vector3d& from,
-                     const Eigen::Vector3d& to, const std::vector<int>* faces = nullptr) const;
+  // Where the HIP's path from `from` over the surface at positions x
+  // (3 x vertices, world, m) to `to` under it went in: the crossing
+  // nearest `from` among `faces` (every face when null); face -1 if it did
+  // not go in.
+  SurfacePoint entry(const Eigen::Matrix3Xd& x, const Eigen::Vector3d& from, const Eigen::Vector3d& to,
+                     const std::vector<int>* faces = nullptr) const;
 
   // The point of the mesh nearest q, among all faces: where a HIP with no
   // path from outside (the first one seen) is put.
@@ -78,8 +77,9 @@ class FaceGrid {
  public:
   // cell: m, > 0; a face's box is grown by `margin` (m, >= 0) before binning.
   FaceGrid(const Eigen::Matrix3Xd& x, const std::vector<Eigen::Vector3i>& triangles, double cell, double margin);
-  // The faces whose grown boxes may meet `box`, each once.
-  std::vector<int> near(const Eigen::AlignedBox3d& box) const;
+  // Into `out` (its storage reused, for a 1 kHz loop): the faces whose
+  // grown boxes may meet `box`, each once.
+  void near(const Eigen::AlignedBox3d& box, std::vector<int>& out) const;
 
  private:
   Eigen::Vector3d origin_;
