@@ -33,18 +33,18 @@ models::rigid::Body body(const Config& o, bool ground) {
 }  // namespace
 
 RigidConfig rigid_config(const Config& p) {
-  p.allow_only({"device", "backend", "bodies", "ground", "restitution", "friction", "floor_restitution",
-                "floor_friction", "tip_radius", "tip_mass", "stiffness", "max_force", "mujoco_substeps"});
+  p.allow_only({"device", "backend", "bodies", "ground", "pair_restitution", "pair_friction", "floor_restitution",
+                "floor_friction", "tip_radius", "stiffness", "damping", "max_force", "mujoco_substeps"});
   RigidConfig r;
   r.device = p.string("device", r.device);
   r.backend = p.text("backend", r.backend, {"analytic", "mujoco", "crosscheck"});
   r.spec.ground = p.on("ground", r.spec.ground);
-  r.spec.tip = material(p, "", r.spec.tip);
+  r.spec.pair = material(p, "pair_", r.spec.pair);
   r.spec.floor = material(p, "floor_", r.spec.floor);
   r.spec.tip_radius = p.number("tip_radius", r.spec.tip_radius, 0, 0.05);
-  r.spec.tip_mass = p.number("tip_mass", r.spec.tip_mass, 1e-3, 10);
-  r.stiffness = p.number("stiffness", r.stiffness, 1, 1e4);
-  r.max_force = p.number("max_force", r.max_force, 0.1, 100);
+  r.coupling.stiffness = p.number("stiffness", r.coupling.stiffness, 1, 1e4);
+  r.coupling.damping = p.number("damping", r.coupling.damping, 0, 100);
+  r.coupling.max_force = p.number("max_force", r.coupling.max_force, 0.1, 100);
   r.mujoco_substeps = p.whole("mujoco_substeps", r.mujoco_substeps, 1, 100);
   for (const Config& o : p.list("bodies")) {
     const std::string name = o.string("name", "");

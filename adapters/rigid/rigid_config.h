@@ -1,6 +1,6 @@
 // The rigid service's params (docs/rigid.md) read into what the rigid
 // models take: the world's spec, its bodies, and how the service drives
-// them (backend, proxy spring).
+// them (backend, the stylus's virtual coupling).
 #pragma once
 
 #include <string>
@@ -8,18 +8,18 @@
 
 #include "adapters/config.h"
 #include "models/haptic/friction.h"
+#include "models/rigid/coupling.h"
 #include "models/rigid/world.h"
 
 namespace hcosim::adapters::rigid {
 
 struct RigidConfig {
-  std::string device = "omni";       // the haptic device whose stylus touches the bodies
-  std::string backend = "analytic";  // analytic, mujoco or crosscheck (both, MuJoCo's divergence told)
-  models::rigid::WorldSpec spec;     // ground, materials, tip
-  double stiffness = 500;            // N/m, the god-object proxy's spring
-  double max_force = 3.3;            // N, where the spring's force is clamped (the Omni's peak)
-  int mujoco_substeps = 10;          // MuJoCo steps per service step
-  std::vector<std::string> names;    // the bodies' names (ForceFeedback.source), in file order
+  std::string device = "omni";           // the haptic device whose stylus touches the bodies
+  std::string backend = "analytic";      // analytic, mujoco or crosscheck (both, MuJoCo's divergence told)
+  models::rigid::WorldSpec spec;         // ground, materials, the stylus tip's radius
+  models::rigid::CouplingSpec coupling;  // the stylus to each body's proxy
+  int mujoco_substeps = 10;              // MuJoCo steps per service step
+  std::vector<std::string> names;        // the bodies' names (ForceFeedback.source), in file order
   std::vector<models::rigid::Body> bodies;
   std::vector<models::haptic::Friction> frictions;  // the stylus against each body, felt through its proxy
 };

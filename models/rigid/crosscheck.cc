@@ -29,6 +29,21 @@ Scenario hit(const std::string& name, Shape shape, double y, double z, double e,
   return s;
 }
 
+// Body 1 (a `mover`) at x = -6 cm moving +x at 1 m/s, offset (y, z), hits
+// body 0 at rest at the origin; the tip is far away.
+Scenario knock(const std::string& name, Shape target, Shape mover, double y, double z, double e, double mu,
+               double tolerance) {
+  Scenario s = hit(name, target, 0, 0, 1, 0, tolerance);
+  s.spec.pair = Material{e, mu};
+  Body b;
+  b.shape = mover, b.size = kSize, b.mass = kMass;
+  b.x = Eigen::Vector3d(-0.06, y, z);
+  b.v = Eigen::Vector3d(kSpeed, 0, 0);
+  s.bodies.push_back(b);
+  s.tip.x = Eigen::Vector3d(1, 1, 1), s.tip.v.setZero();
+  return s;
+}
+
 }  // namespace
 
 std::vector<Scenario> scenarios() {
@@ -44,6 +59,11 @@ std::vector<Scenario> scenarios() {
   Scenario edge = hit("cube_edge", Shape::cube, 0.2 * kSize, 0.3 * kSize, 1, 0, 0.03);
   edge.bodies[0].q = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitZ()));
   out.push_back(edge);
+  out.push_back(knock("ball_on_ball", Shape::sphere, Shape::sphere, 0.5 * kSize, 0, 1, 0, 0.02));
+  out.push_back(knock("ball_on_cube", Shape::cube, Shape::sphere, 0.5 * kSize, 0, 1, 0, 0.02));
+  Scenario corner = knock("cube_on_cube", Shape::cube, Shape::cube, 0.3 * kSize, 0, 1, 0, 0.02);
+  corner.bodies[1].q = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitZ()));
+  out.push_back(corner);
   Scenario rest;
   rest.name = "resting_cube";
   Body cube;

@@ -1,6 +1,7 @@
 // The analytic rigid model against MuJoCo on named scenes: the tip, a
 // particle of the body's mass (the seed's equal-mass case), hits a body in
-// free space, and both models run on until the contact is over. The
+// free space, or a body hits another, and both models run on until the
+// contact is over. The
 // scenarios are shared by the tests, `hcosim bench rigid` and the docs.
 #pragma once
 
@@ -22,7 +23,9 @@ struct Scenario {
   double tolerance = 0;   // the largest rel_vel_err and rel_angvel_err accepted (docs/rigid.md says why)
 };
 
-// head_on, off_centre, grazing, spinning, cube_face, cube_edge, and
+// head_on, off_centre, grazing, spinning, cube_face, cube_edge (the tip
+// hits); ball_on_ball, ball_on_cube, cube_on_cube (a body hits another,
+// off its centre line; the cube's vertical edge on a face); and
 // resting_cube (gravity and the marker plane, no tip).
 std::vector<Scenario> scenarios();
 

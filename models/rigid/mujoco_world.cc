@@ -14,8 +14,9 @@ struct MujocoWorld::Impl {
   mjModel* model = nullptr;
   mjData* data = nullptr;
   WorldSpec spec;
-  std::vector<Body> constants;  // shape, size, mass of each body
-  std::vector<int> body;        // MuJoCo body id of each
+  std::vector<Body> constants;                    // shape, size, mass of each body
+  std::vector<int> body;                          // MuJoCo body id of each
+  std::vector<Eigen::Matrix<double, 6, 1>> load;  // force, torque on each (world)
   int tip_body = -1, tip_q = -1;
 };
 
@@ -51,8 +52,9 @@ std::string MujocoWorld::xml(const WorldSpec& spec, const std::vector<Body>& bod
   std::ostringstream o;
   o.precision(17);
   // A cube has up to 4 contacts with the plane (8 with its corners in
-  // it), and each frictional contact 3 constraint rows.
-  const std::size_t ncon = 8 * bodies.size() + 8;
+  // it), a few with each body it touches (8 allowed for), and each
+  // frictional contact 3 constraint rows.
+  const std::size_t ncon = 16 * bodies.size() + 8;
   o << "<mujoco model=\"rigid\">\n<size nconmax=\"" << ncon << "\" njmax=\"" << 3 * ncon << "\"/>\n<option timestep=\""
     << dt << "\" integrator=\"Euler\" cone=\"elliptic\" gravity=\"" << spec.gravity.x() << " " << spec.gravity.y()
     << " " << spec.gravity.z() << "\"/>\n"
@@ -64,7 +66,14 @@ std::string MujocoWorld::xml(const WorldSpec& spec, const std::vector<Body>& bod
       << " " << b.q.x() << " " << b.q.y() << " " << b.q.z() << "\"><freejoint/><geom name=\"g" << i << "\" type=\""
       << (b.shape == Shape::cube ? "box" : "sphere") << "\" size=\"";
     if (b.shape == Shape::cube) o << b.size << " " << b.size << " ";
-    o << b.size << "\" mass=\"" << b.mass << "\"/></body>\n";
+    // Body-body contacts come from MuJoCo's own collision filter (every
+    // body geom has contype and conaffinity 2, the tip and the floor 0),
+    // with the pair material on every body geom, so that n bodies need no
+    // n^2 explicit pairs.
+    o << b.size << "\" mass=\"" << b.mass << "\" contype=\"2\" conaffinity=\"2\" condim=\""
+      << (spec.pair.friction > 0 ? 3 : 1) << "\" friction=\"" << spec.pair.friction << " 0 0\" solref=\""
+      << solref(spec.pair.restitution, dt, c) << "\" solimp=\"" << c.impedance << " " << c.impedance
+      << " 0.001 0.5 2\"/></body>\n";
   }
   o << "<body name=\"tip\"><joint type=\"slide\" axis=\"1 0 0\"/><joint type=\"slide\" axis=\"0 1 0\"/>"
     << "<joint type=\"slide\" axis=\"0 0 1\"/><geom name=\"tip\" type=\"sphere\" size=\""
@@ -102,6 +111,7 @@ MujocoWorld::MujocoWorld(const WorldSpec& spec, const std::vector<Body>& bodies,
     const Eigen::Vector3d wl = b.q.conjugate() * b.w;
     for (int k = 0; k < 3; ++k) d->qvel[qv + 3 + k] = wl[k];
   }
+  impl_->load.assign(bodies.size(), Eigen::Matrix<double, 6, 1>::Zero());
   impl_->tip_body = mj_name2id(m, mjOBJ_BODY, "tip");
   impl_->tip_q = m->jnt_qposadr[m->body_jntadr[impl_->tip_body]];
   mj_forward(m, d);
@@ -110,6 +120,12 @@ MujocoWorld::MujocoWorld(const WorldSpec& spec, const std::vector<Body>& bodies,
 MujocoWorld::~MujocoWorld() {
   if (impl_->data) mj_deleteData(impl_->data);
   if (impl_->model) mj_deleteModel(impl_->model);
+}
+
+void MujocoWorld::set_load(std::size_t i, const Eigen::Vector3d& force, const Eigen::Vector3d& torque) {
+  if (i >= impl_->body.size()) throw std::invalid_argument("mujoco world: no body " + std::to_string(i) + " to load");
+  if (!force.allFinite() || !torque.allFinite()) throw std::invalid_argument("mujoco world: load is not finite");
+  impl_->load[i] << force, torque;
 }
 
 void MujocoWorld::set_tip(const Tip& t) {
@@ -151,8 +167,9 @@ void MujocoWorld::step() {
   mju_zero(d->xfrc_applied, 6 * m->nbody);
   for (std::size_t i = 0; i < impl_->constants.size(); ++i) {
     const Body b = body(i);
-    const Eigen::Vector3d f = -(drag.linear + drag.quadratic * b.v.norm()) * b.v;
-    const Eigen::Vector3d t = -(drag.angular_linear + drag.angular_quadratic * b.w.norm()) * b.w;
+    const Eigen::Vector3d f = impl_->load[i].head<3>() - (drag.linear + drag.quadratic * b.v.norm()) * b.v;
+    const Eigen::Vector3d t =
+        impl_->load[i].tail<3>() - (drag.angular_linear + drag.angular_quadratic * b.w.norm()) * b.w;
     for (int k = 0; k < 3; ++k)
       d->xfrc_applied[6 * impl_->body[i] + k] = f[k], d->xfrc_applied[6 * impl_->body[i] + 3 + k] = t[k];
   }

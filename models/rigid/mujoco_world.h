@@ -1,9 +1,10 @@
 // The rigid scene of world.h in MuJoCo 2.2.2, the cross-check: each body a
 // free body with a box or sphere geom, the tip a sphere on three slide
 // joints (a particle: it translates, never spins), the marker plane a plane
-// geom. Every contact is an explicit pair (tip-body, body-floor), so bodies
-// do not collide with each other, as in world.h. Drag is applied as the
-// same law through xfrc_applied, and the tip's weight is cancelled there.
+// geom. The tip-body and body-floor contacts are explicit pairs; body-body
+// contacts come from MuJoCo's collision filter; all with world.h's
+// materials. Drag and the loads are applied
+// through xfrc_applied, and the tip's weight is cancelled there.
 //
 // Restitution: MuJoCo's contacts are soft (a spring-damper in constraint
 // space). With a negative solref (-stiffness, -damping) in units of
@@ -38,6 +39,9 @@ class MujocoWorld {
   // One mj_step of the dt given at construction. Throws
   // std::runtime_error if MuJoCo reports a warning.
   void step();
+
+  // As World::set_load: a wrench on body i held over the steps.
+  void set_load(std::size_t i, const Eigen::Vector3d& force, const Eigen::Vector3d& torque);
 
   void set_tip(const Tip& t);
   Tip tip() const;

@@ -1,5 +1,7 @@
 #include "models/rigid/world.h"
 
+#include "models/rigid/collide.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -9,6 +11,13 @@
 namespace hcosim::models::rigid {
 
 namespace {
+
+// Passes over the contacts in a step where bodies touch each other.
+constexpr int kContactPasses = 30;
+// The share of a resting contact's overlap undone per step: all of it at
+// once lifts a rocking cube by its deepest corner every step, which pumps
+// the rocking.
+constexpr double kRestingUndo = 0.2;
 
 Eigen::Matrix3d cross_matrix(const Eigen::Vector3d& r) {
   Eigen::Matrix3d m;
@@ -49,20 +58,16 @@ Support support_points(const Body& b) {
   return s;
 }
 
-}  // namespace
-
-Eigen::Vector3d contact_impulse(const Body& b, double tip_mass, const Eigen::Vector3d& tip_v, const Eigen::Vector3d& p,
-                                const Eigen::Vector3d& n, const Material& m) {
-  Eigen::Vector3d v = tip_v - point_velocity(b, p);
+// The impulse on the second of two touching things whose relative
+// velocity at the contact is v (second minus first) and changes by K per
+// unit impulse on the second (the first taking the opposite); n is the
+// unit normal out of the first.
+Eigen::Vector3d impulse(const Eigen::Matrix3d& K, Eigen::Vector3d v, const Eigen::Vector3d& n, const Material& m) {
   const double vn0 = v.dot(n);
   // A grazing touch's normal is perpendicular to the motion only to
   // within rounding (amplified near tangency): approaches slower than a
   // millionth of the relative speed exchange nothing.
   if (vn0 >= -1e-6 * v.norm()) return Eigen::Vector3d::Zero();
-  // Relative velocity change per unit impulse on the tip (the body taking
-  // the opposite at p): K = (1/m_t + 1/m_b) I - [r]x^2 / I_b.
-  const Eigen::Matrix3d rx = cross_matrix(p - b.x);
-  const Eigen::Matrix3d K = (1 / tip_mass + 1 / b.mass) * Eigen::Matrix3d::Identity() - rx * rx / inertia(b);
   const double e = m.restitution, mu = m.friction, knn = n.dot(K * n);
   if (mu == 0) return -(1 + e) * vn0 / knn * n;  // Newton's law, exact
   const Eigen::Vector3d t1 = n.unitOrthogonal(), t2 = n.cross(t1);
@@ -113,6 +118,25 @@ Eigen::Vector3d contact_impulse(const Body& b, double tip_mass, const Eigen::Vec
   return P;
 }
 
+}  // namespace
+
+Eigen::Vector3d contact_impulse(const Body& b, double tip_mass, const Eigen::Vector3d& tip_v, const Eigen::Vector3d& p,
+                                const Eigen::Vector3d& n, const Material& m) {
+  // K = (1/m_t + 1/m_b) I - [r]x^2 / I_b.
+  const Eigen::Matrix3d rx = cross_matrix(p - b.x);
+  const Eigen::Matrix3d K = (1 / tip_mass + 1 / b.mass) * Eigen::Matrix3d::Identity() - rx * rx / inertia(b);
+  return impulse(K, tip_v - point_velocity(b, p), n, m);
+}
+
+Eigen::Vector3d pair_impulse(const Body& a, const Body& b, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
+                             const Material& m) {
+  // K = (1/m_a + 1/m_b) I - [r_a]x^2 / I_a - [r_b]x^2 / I_b.
+  const Eigen::Matrix3d ra = cross_matrix(p - a.x), rb = cross_matrix(p - b.x);
+  const Eigen::Matrix3d K =
+      (1 / a.mass + 1 / b.mass) * Eigen::Matrix3d::Identity() - ra * ra / inertia(a) - rb * rb / inertia(b);
+  return impulse(K, point_velocity(b, p) - point_velocity(a, p), n, m);
+}
+
 double time_of_impact(const Body& b, const Tip& tip, double tip_radius, double dt) {
   const Eigen::Vector3d q0 = tip.x - b.x, u = tip.v - b.v;
   if (b.shape == Shape::sphere) {
@@ -145,6 +169,7 @@ void check(const WorldSpec& spec) {
   if (!spec.gravity.allFinite()) throw std::invalid_argument("rigid: gravity is not finite");
   check(spec.tip, "tip");
   check(spec.floor, "floor");
+  check(spec.pair, "pair");
   const Drag& d = spec.drag;
   if (!(d.linear >= 0 && d.quadratic >= 0 && d.angular_linear >= 0 && d.angular_quadratic >= 0))
     throw std::invalid_argument("rigid: drag coefficients must be >= 0");
@@ -163,9 +188,16 @@ void check(const std::vector<Body>& bodies) {
   }
 }
 
-World::World(const WorldSpec& spec, std::vector<Body> bodies) : spec_(spec), bodies_(std::move(bodies)) {
+World::World(const WorldSpec& spec, std::vector<Body> bodies)
+    : spec_(spec), bodies_(std::move(bodies)), loads_(bodies_.size()) {
   check(spec_);
   check(bodies_);
+}
+
+void World::set_load(std::size_t i, const Eigen::Vector3d& force, const Eigen::Vector3d& torque) {
+  if (i >= bodies_.size()) throw std::invalid_argument("rigid: no body " + std::to_string(i) + " to load");
+  if (!force.allFinite() || !torque.allFinite()) throw std::invalid_argument("rigid: load is not finite");
+  loads_[i] = {force, torque};
 }
 
 void World::set_tip(const Tip& t) {
@@ -202,7 +234,7 @@ void World::hit(Body& b, double dt, StepReport& r) {
 // Impulses at the body's points touching the plane: the normal impulse
 // never pulls, friction stays in its cone, and impacts
 // faster than bounce_speed bounce with the floor's restitution.
-void World::floor(Body& b) const {
+void World::floor(Body& b, double dt) const {
   struct Touch {
     Eigen::Vector3d r;
     double target = 0, normal = 0;
@@ -218,7 +250,10 @@ void World::floor(Body& b) const {
     Touch& t = touches[count++];
     t.r = p - b.x;
     const double vn = point_velocity(b, p).z();
-    t.target = vn < -spec_.bounce_speed ? -spec_.floor.restitution * vn : 0;
+    // A slow corner still above the plane may close its gap this step: a
+    // cube resting a little tilted on its corners settles flat instead of
+    // being held tilted.
+    t.target = vn < -spec_.bounce_speed ? -spec_.floor.restitution * vn : -std::max(0.0, p.z()) / dt;
   }
   const double I = inertia(b), mu = spec_.floor.friction;
   auto apply = [&](const Eigen::Vector3d& r, const Eigen::Vector3d& P) {
@@ -253,28 +288,107 @@ void World::floor(Body& b) const {
   }
 }
 
+// The impulses at the pair's contact. An impact (approaching faster than
+// bounce_speed) takes one impulse at the contact point, with restitution;
+// a resting contact takes one at each support corner of a cube on a cube
+// (Jacobi: all from the same velocities, each applied at 1/n, as on the
+// plane), so that a face rests flat. On the first pass of a step (`first`)
+// part of the overlap is undone along the normal in inverse proportion to
+// the masses, which keeps their centre of mass. A sleeping body holds like
+// a fixed one under a contact that carries no more than the other's
+// weight (a body resting on it), and wakes under anything more (a push,
+// a hit). Returns whether they touch.
+bool World::touch(Body& a, Body& b, bool first, double dt, StepReport& r) const {
+  if (a.sleeping && b.sleeping) return false;
+  Contact c;
+  if (!collide(a, b, 1e-4 * std::min(a.size, b.size), c)) return false;
+  Material m = spec_.pair;
+  const bool impact = (point_velocity(b, c.point) - point_velocity(a, c.point)).dot(c.normal) < -spec_.bounce_speed;
+  if (!impact) m.restitution = 0;
+  const bool spread = !impact && c.supports > 1;
+  const int n = spread ? c.supports : 1;
+  const auto at = [&](int k) -> const Eigen::Vector3d& { return spread ? c.support[std::size_t(k)] : c.point; };
+  // The sleeper, if any, as a body too heavy to move.
+  Body* sleeper = a.sleeping ? &a : b.sleeping ? &b : nullptr;
+  Body* awake = sleeper == &a ? &b : &a;
+  Body fixed_a = a, fixed_b = b;
+  if (sleeper) (sleeper == &a ? fixed_a : fixed_b).mass *= 1e12;
+  std::array<Eigen::Vector3d, 4> impulses;
+  const auto solve = [&](const Body& x, const Body& y) {
+    for (int k = 0; k < n; ++k) impulses[std::size_t(k)] = pair_impulse(x, y, at(k), c.normal, m) / n;
+  };
+  solve(fixed_a, fixed_b);
+  if (sleeper) {
+    double normal = 0;
+    for (int k = 0; k < n; ++k) normal += std::abs(impulses[std::size_t(k)].dot(c.normal));
+    const double weight = awake->mass * std::abs(spec_.gravity.dot(c.normal)) * dt;
+    if (impact || normal > 1.5 * weight + awake->mass * spec_.sleep_speed) {
+      sleeper->sleeping = false, sleeper->still_s = 0;
+      sleeper = nullptr;
+      solve(a, b);
+    }
+  }
+  bool moved = false;
+  for (int k = 0; k < n; ++k) {
+    const Eigen::Vector3d& P = impulses[std::size_t(k)];
+    if (P.isZero()) continue;
+    if (sleeper != &b) b.v += P / b.mass, b.w += (at(k) - b.x).cross(P) / inertia(b);
+    if (sleeper != &a) a.v -= P / a.mass, a.w -= (at(k) - a.x).cross(P) / inertia(a);
+    moved = true;
+  }
+  r.touches += first && moved;
+  if (first && c.depth > 0) {
+    const double share = sleeper ? (sleeper == &b ? 1.0 : 0.0) : b.mass / (a.mass + b.mass);
+    const double undo = (impact ? 1 : kRestingUndo) * c.depth;
+    a.x -= share * undo * c.normal;
+    b.x += (1 - share) * undo * c.normal;
+  }
+  return true;
+}
+
 StepReport World::step(double dt) {
   if (!(dt > 0 && std::isfinite(dt))) throw std::invalid_argument("rigid: dt must be > 0");
   StepReport r;
   for (Body& b : bodies_) hit(b, dt, r);
   const Drag& d = spec_.drag;
-  for (Body& b : bodies_) {
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    Body& b = bodies_[i];
+    const Load& l = loads_[i];
+    if (!l.force.isZero() || !l.torque.isZero()) b.sleeping = false, b.still_s = 0;
     if (b.sleeping) continue;
-    ++r.simulated;
-    b.v += spec_.gravity * dt;
+    b.v += (spec_.gravity + l.force / b.mass) * dt;
+    b.w += l.torque / inertia(b) * dt;
     // Drag, implicit in its coefficient: it slows, never reverses.
     b.v /= 1 + dt * (d.linear + d.quadratic * b.v.norm()) / b.mass;
     b.w /= 1 + dt * (d.angular_linear + d.angular_quadratic * b.w.norm()) / inertia(b);
-    if (spec_.ground) floor(b);
+  }
+  // Contacts between bodies, then with the plane; where bodies touch, the
+  // passes repeat (Gauss-Seidel), so that a body resting on another that
+  // rests on the plane is held by both (one pass would let the top one
+  // sink a little every step and never sleep).
+  bool touching = false;
+  for (int pass = 0; pass == 0 || (touching && pass < kContactPasses); ++pass) {
+    for (std::size_t i = 0; i < bodies_.size(); ++i)
+      for (std::size_t j = i + 1; j < bodies_.size(); ++j)
+        touching = touch(bodies_[i], bodies_[j], pass == 0, dt, r) || touching;
+    if (spec_.ground)
+      for (Body& b : bodies_)
+        if (!b.sleeping) floor(b, dt);
+  }
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    Body& b = bodies_[i];
+    if (b.sleeping) continue;
+    ++r.simulated;
     b.x += b.v * dt;
     b.q = (rotation(b.w, dt) * b.q).normalized();
     if (spec_.ground) {
       double low = 0;
       const Support s = support_points(b);
-      for (int i = 0; i < s.n; ++i) low = std::min(low, s.p[std::size_t(i)].z());
+      for (int k = 0; k < s.n; ++k) low = std::min(low, s.p[std::size_t(k)].z());
       b.x.z() -= low;  // out of the plane
     }
-    const bool slow = b.v.norm() < spec_.sleep_speed && b.w.norm() * b.size < spec_.sleep_speed;
+    const bool loaded = !loads_[i].force.isZero() || !loads_[i].torque.isZero();
+    const bool slow = !loaded && b.v.norm() < spec_.sleep_speed && b.w.norm() * b.size < spec_.sleep_speed;
     b.still_s = slow ? b.still_s + dt : 0;
     if (b.still_s >= spec_.sleep_time) b.sleeping = true, b.v.setZero(), b.w.setZero();
   }

@@ -1,15 +1,17 @@
-// The rigid scene of seed 000 §2.1: cubes and spheres hit by the haptic
-// stylus tip, with restitution and Coulomb friction, air friction, contact
-// with the marker plane, and sleep. Impulse-based: a contact changes
-// velocities at once, conserving linear and angular momentum exactly.
+// The rigid scene of seed 000 §2.1: cubes and spheres that collide with
+// one another and with the marker plane, with restitution and Coulomb
+// friction, air friction and sleep, pushed by outside loads. Impulse-based:
+// a contact changes velocities at once, conserving linear and angular
+// momentum exactly.
 //
-// The tip is a particle of its own mass with a radius for contact (the seed
-// models stylus and object as particles). It moves freely unless the caller
-// sets it: a service sets it from the device every tick, the hand then
-// supplying whatever momentum the tip loses in a hit. The tip sweeps its
-// path each step against every body (continuous collision detection), so a
-// 10 m/s stroke does not pass through a small object. Bodies do not collide
-// with one another.
+// Two ways to touch a body. A load (set_load) is a wrench held over the
+// steps: the haptic service's virtual coupling to the stylus
+// (coupling.h), so that the body receives the force the hand feels. The
+// tip is the seed's own model: a particle of its own mass with a radius
+// for contact (the seed models stylus and object as particles), moving
+// freely unless the caller sets it, its path swept each step against
+// every body (continuous collision detection), so a 10 m/s stroke does not
+// pass through a small object; eq 1-7 and the MuJoCo cross-check use it.
 #pragma once
 
 #include <vector>
@@ -42,10 +44,11 @@ struct WorldSpec {
   bool ground = true;                    // the marker plane z = 0, bodies above it
   Material tip;                          // tip against a body
   Material floor{0.2, 0.5};              // a body against the marker plane
+  Material pair{0.5, 0.3};               // a body against another
   Drag drag;
   double tip_radius = 0.002;   // m, >= 0
   double tip_mass = 0.1;       // kg, > 0
-  double bounce_speed = 0.05;  // m/s: slower floor impacts do not bounce (resting contact)
+  double bounce_speed = 0.05;  // m/s: slower impacts (floor or pair) do not bounce (resting contact)
   double sleep_speed = 2e-3;   // m/s: slower bodies (w times size counted as speed) may sleep
   double sleep_time = 0.3;     // s slower than sleep_speed before sleeping
 };
@@ -59,6 +62,7 @@ struct Tip {
 // What a step did.
 struct StepReport {
   int hits = 0;       // tip-body impulses
+  int touches = 0;    // body-body impulses
   int simulated = 0;  // bodies not asleep
 };
 
@@ -71,9 +75,16 @@ class World {
   // Throws std::invalid_argument for a bad spec or body (naming which).
   World(const WorldSpec& spec, std::vector<Body> bodies);
 
-  // One step of dt (s, > 0): the tip's swept hits, then gravity, drag, the
-  // marker plane and integration for every body awake, then the tip moves.
+  // One step of dt (s, > 0): the tip's swept hits; gravity, loads and drag
+  // for every body awake (a loaded body wakes and does not sleep); the
+  // bodies' contacts with one another, then with the marker plane;
+  // integration; then the tip moves.
   StepReport step(double dt);
+
+  // The outside wrench on body i: force (N) through its centre and torque
+  // about it (N m), world frame, held over every step until set again.
+  // Throws std::invalid_argument for a bad index or a non-finite value.
+  void set_load(std::size_t i, const Eigen::Vector3d& force, const Eigen::Vector3d& torque);
 
   // The tip, to drive it from a device (x, v finite; throws otherwise).
   void set_tip(const Tip& t);
@@ -88,11 +99,16 @@ class World {
   double kinetic_energy() const;
 
  private:
+  struct Load {
+    Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
+  };
   void hit(Body& b, double dt, StepReport& r);
-  void floor(Body& b) const;
+  bool touch(Body& a, Body& b, bool first, double dt, StepReport& r) const;
+  void floor(Body& b, double dt) const;
 
   WorldSpec spec_;
   std::vector<Body> bodies_;
+  std::vector<Load> loads_;
   Tip tip_;
 };
 
@@ -107,6 +123,11 @@ class World {
 // opposite impulse at p.
 Eigen::Vector3d contact_impulse(const Body& b, double tip_mass, const Eigen::Vector3d& tip_v, const Eigen::Vector3d& p,
                                 const Eigen::Vector3d& n, const Material& m);
+
+// The same law between two bodies touching at p with unit normal n (out of
+// a, toward b): the impulse (N s) on b at p; a takes the opposite.
+Eigen::Vector3d pair_impulse(const Body& a, const Body& b, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
+                             const Material& m);
 
 // Earliest time in [0, dt] (s) at which the tip, moving at tip.v, touches
 // body b moving at b.v (its rotation within the step neglected), or a

@@ -1,12 +1,14 @@
 // hcosim_rigid: the rigid body service (seed 000 §2.1). In real time a
-// haptic thread answers each HapticState of its device as it arrives: it
-// drives the stylus tip with it and answers with one ForceFeedback per
-// body from its god-object proxy, with the local model the device renders
-// if a later answer is late. Every physics tick the loop steps the scene
-// (the analytic model, MuJoCo, or both side by side in crosscheck mode)
-// and publishes each body's RigidBodyState; in crosscheck mode also each
-// body's RigidDivergence. In lockstep the step answers the device's state
-// of the same step, then steps the bodies.
+// haptic thread answers each HapticState of its device as it arrives: one
+// ForceFeedback per body from its virtual coupling to a god-object proxy
+// (models/rigid/coupling.h), with the local model the device renders if a
+// later answer is late; the opposite of each answered force, held for the
+// device's tick, is owed to its body. Every physics tick the loop hands the
+// bodies what they are owed as a load, steps the scene (the analytic
+// model, MuJoCo, or both side by side in crosscheck mode) and publishes
+// each body's RigidBodyState; in crosscheck mode also each body's
+// RigidDivergence. In lockstep the step answers the device's state of the
+// same step, then steps the bodies.
 // adapters::Config: docs/rigid.md.
 #include <algorithm>
 #include <atomic>
@@ -18,8 +20,8 @@
 #include "adapters/rigid/rigid_config.h"
 #include "adapters/rigid/rigid_idl.h"
 #include "models/haptic/local_model.h"
+#include "models/rigid/coupling.h"
 #include "models/rigid/mujoco_world.h"
-#include "models/rigid/proxy.h"
 #include "models/rigid/world.h"
 #include "services/runtime/haptic_answer.h"
 #include "services/runtime/service.h"
@@ -29,14 +31,15 @@ using namespace hcosim::services::runtime;
 
 namespace {
 
-// Where the tip waits until the device's first state: 1 m above the
-// marker, clear of any scene the service accepts.
+// Where the seed's tip particle (world.h) is kept: 1 m above the marker,
+// clear of any scene the service accepts; the stylus touches the bodies
+// through their couplings instead.
 constexpr double kParkedTipZ = 1.0;
 // Kept from a body by a free-space answer: gravity over the horizon
 // (0.5 g t^2, 2 mm in 20 ms) and the body's speed changing meanwhile.
 constexpr double kFreeMarginM = 0.004;
-// A device state older than this no longer moves the tip: the tip stops
-// where it is, so that a silent device cannot carry it through the scene.
+// The longest a device state's force is held on a body: a state after a
+// longer silence (or the first) stands for one tick of the service.
 constexpr double kStaleState = 0.02;  // s
 // A sleeping body's state is repeated this often, for late subscribers.
 constexpr double kSleepingRepeat = 0.2;  // s
@@ -65,7 +68,6 @@ int run(const Options& options) {
   const std::string& device = config.device;
   const std::string& backend = config.backend;
   const models::rigid::WorldSpec& spec = config.spec;
-  const double stiffness = config.stiffness, max_force = config.max_force;
   const int substeps = config.mujoco_substeps;
   const std::vector<models::rigid::Body>& bodies = config.bodies;
   const double dt = 1 / svc.options().rate_hz;
@@ -85,69 +87,58 @@ int run(const Options& options) {
   }
   const char* primary = analytic ? "analytic" : "mujoco";
   const auto body = [&](std::size_t i) { return analytic ? analytic->bodies()[i] : mujoco->body(i); };
-  const auto set_tip = [&](const models::rigid::Tip& t) {
-    if (analytic) analytic->set_tip(t);
-    if (mujoco) mujoco->set_tip(t);
-  };
-  models::rigid::Tip tip;
-  tip.x = {0, 0, kParkedTipZ};
-  set_tip(tip);
+  models::rigid::Tip parked;
+  parked.x = {0, 0, kParkedTipZ};
+  if (analytic) analytic->set_tip(parked);
+  if (mujoco) mujoco->set_tip(parked);
 
   Reader<HapticState> in = svc.reader<HapticState>();
   Writer<ForceFeedback> force(svc.participant());
   Writer<RigidBodyState> states(svc.participant());
   Writer<RigidDivergence> divergences(svc.participant());
-  std::vector<models::rigid::Proxy> proxies;
-  for (const models::haptic::Friction& f : config.frictions) proxies.emplace_back(f);
+  std::vector<models::rigid::Coupling> couplings;
+  for (const models::haptic::Friction& f : config.frictions) couplings.emplace_back(config.coupling, f);
   std::vector<adapters::device::Feel> feels(items.size());
   std::vector<adapters::device::Feel> said(items.size());  // the last answer written per body
   std::vector<std::uint64_t> said_seq(items.size());       // the state it answered
   const bool realtime = svc.options().mode == Mode::kRealtime;
   std::uint64_t unanswered = 0;  // body-states left to a free-space answer
   Window answer_us(1 << 16);
-  // The haptic thread moves the tip and the proxies, the loop steps the
-  // bodies: one lock for the scene, held by each for that part only.
+  // The haptic thread touches the bodies through their couplings, the loop
+  // steps them: one lock for the scene, held by each for that part only.
   PiMutex scene;
-  std::atomic<std::int64_t> state_mono{0};  // ns, when the latest device state arrived; 0: none yet
+  double last_device_s = -1;  // the device clock of the last state answered; < 0: none yet
   std::uint64_t contact_ticks = 0;
   double felt = 0;
-  // Each body's god-object proxy answers as its own source. The tip that
-  // touches the scene is the deepest proxy, not the HIP: a HIP pushed into
-  // a body must not place the tip inside it (MuJoCo would answer with a
-  // huge soft-contact force).
   const auto answer = [&](const HapticState& s, const StepStamp& stamp) {
     const std::int64_t t0 = mono_ns();
     const Eigen::Vector3d h = adapters::device::from_idl(s.position());
+    const Eigen::Vector3d hv = adapters::device::from_idl(s.velocity());
     {
       std::lock_guard<PiMutex> l(scene);
-      tip.x = h;
-      double deepest = 0;
+      // How long this state's force stands: until the device's next state,
+      // taken as the time since its last one (a repeated state: none).
+      const double since = s.device_time_s() - last_device_s;
+      const double held = last_device_s < 0 || since > kStaleState ? dt : std::max(0.0, since);
+      last_device_s = s.device_time_s();
       for (std::size_t i = 0; i < items.size(); ++i) {
         adapters::device::Feel& f = feels[i];
         const models::rigid::Body b = body(i);
-        const Eigen::Vector3d proxy = proxies[i].update(b, spec.tip_radius, h);
-        if (!proxies[i].in_contact()) {
+        const models::rigid::Touch t = couplings[i].touch(b, spec.tip_radius, h, hv, held);
+        if (!t.contact) {
           f = adapters::device::free_feel(h, free_clearance(b, spec.tip_radius, h));
           continue;
         }
-        const Eigen::Vector3d d = proxy - h;
-        const double depth = d.norm();
-        if (depth > deepest) deepest = depth, tip.x = proxy;
-        // The spring pulls the HIP toward the proxy; past max_force it is
-        // clamped, and the model holds that force (no stiffness).
-        const Eigen::Vector3d n = depth > 0 ? Eigen::Vector3d(d / depth) : Eigen::Vector3d::Zero();
-        const Eigen::Vector3d fk = models::rigid::proxy_force(proxy, h, stiffness, max_force);
-        const bool clamped = stiffness * depth > max_force;
-        f = adapters::device::contact_feel(fk, h, n, clamped ? 0.0 : stiffness, depth,
+        // The local model: the spring along the force's direction, none
+        // past max_force (the model then holds that force).
+        const Eigen::Vector3d n = t.depth > 0 ? Eigen::Vector3d((t.proxy - h) / t.depth) : t.normal;
+        f = adapters::device::contact_feel(t.force, h, n, t.clamped ? 0.0 : config.coupling.stiffness, t.depth,
                                            adapters::device::kContactModelRadius);
       }
-      tip.v = adapters::device::from_idl(s.velocity());
-      set_tip(tip);
     }
-    state_mono = mono_ns();
     // In real time a body whose last answer still covers the HIP with free
-    // space is not answered (adapters::device::answer_covered): the device renders
-    // it without waiting.
+    // space is not answered (adapters::device::answer_covered): the device
+    // renders it without waiting.
     bool touching = false;
     for (std::size_t i = 0; i < items.size(); ++i) {
       touching = touching || feels[i].in_contact;
@@ -174,7 +165,7 @@ int run(const Options& options) {
   double state_time = 0;  // s, lockstep: the simulated time `latest` arrived
   Window step_us(1 << 16);
   std::vector<models::rigid::Body> now_bodies;  // the bodies after this tick's step (reused: no allocation per tick)
-  std::uint64_t hits = 0;                       // tip impulses of the analytic model
+  std::uint64_t touches = 0;                    // body-body impulses of the analytic model
   double worst[4] = {0, 0, 0, 0};               // max divergences
   const int status = svc.run([&](const Tick& tick) {
     const double now = tick.sim_time_ns * 1e-9;
@@ -195,15 +186,12 @@ int run(const Options& options) {
     now_bodies.clear();
     {
       std::lock_guard<PiMutex> l(scene);
-      // A device silent for longer than kStaleState no longer moves the
-      // tip: it stops where it is, so that the tip cannot coast on through
-      // the scene.
-      const std::int64_t last = state_mono;
-      if (svc.options().mode == Mode::kRealtime && last != 0 && (mono_ns() - last) * 1e-9 > kStaleState) {
-        tip.v.setZero();
-        set_tip(tip);
+      for (std::size_t i = 0; i < items.size(); ++i) {
+        const models::rigid::Wrench w = couplings[i].load(body(i), dt);
+        if (analytic) analytic->set_load(i, w.force, w.torque);
+        if (mujoco) mujoco->set_load(i, w.force, w.torque);
       }
-      if (analytic) hits += std::uint64_t(analytic->step(dt).hits);
+      if (analytic) touches += std::uint64_t(analytic->step(dt).touches);
       if (mujoco)
         for (int k = 0; k < substeps; ++k) mujoco->step();
       for (std::size_t i = 0; i < items.size(); ++i) now_bodies.push_back(body(i));
@@ -252,9 +240,9 @@ int run(const Options& options) {
               static_cast<unsigned long long>(unanswered));
   std::printf(
       "%s: %s backend, bodies step p50 %.1f us p99 %.1f us over %zu ticks; haptic answer (all bodies) "
-      "p50 %.1f us p99 %.1f us over %zu states; %llu tip hits, %llu states in contact, max force %.3f N\n",
+      "p50 %.1f us p99 %.1f us over %zu states; %llu body-body touches, %llu states in contact, max force %.3f N\n",
       svc.options().name.c_str(), backend.c_str(), step_us.percentile(0.5), step_us.percentile(0.99), step_us.size(),
-      answer_us.percentile(0.5), answer_us.percentile(0.99), answer_us.size(), static_cast<unsigned long long>(hits),
+      answer_us.percentile(0.5), answer_us.percentile(0.99), answer_us.size(), static_cast<unsigned long long>(touches),
       static_cast<unsigned long long>(contact_ticks), felt);
   if (analytic && mujoco)
     std::printf(

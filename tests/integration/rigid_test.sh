@@ -3,12 +3,12 @@
 # beside it; a probe sends NaN haptic states, which must be refused and
 # counted. States and divergences reach subscribers; the struck sphere
 # rolls away, the pressed cube stays and pushes back; the analytic model
-# and MuJoCo stay within a centimetre of each other. The run is lockstep,
-# so every run is the same one (the sphere rolls 0.7825 m and the models
-# end 4.25 mm apart); in real time, or in lockstep before a step waited
-# for its inputs, the strike landed differently from run to run and the
-# gap reached 5.4 cm. A body placed inside the marker plane is refused with
-# its file and line.
+# and MuJoCo, given the same loads from the stylus's couplings, stay within
+# a centimetre of each other. The run is lockstep, so every run is the same
+# one (the sphere rolls 1.0555 m and the models end 0.26 mm apart); in real
+# time, or in lockstep before a step waited for its inputs, the strike
+# landed differently from run to run. A body placed inside the marker plane
+# is refused with its file and line.
 source "$(dirname "$0")/lib.sh"
 cat >"$WORK/strike.yaml" <<'YAML'
 start: [-0.075, 0, 0.02]
@@ -57,8 +57,6 @@ box=$(grep "^box: cube at" "$log") || fail "no summary for the box"
 echo "$box" | awk -F'[][, ]+' '{ dx = $4 + 0.04; dy = $5 - 0.04; dz = $6 - 0.02
   exit !(dx * dx + dy * dy + dz * dz < 4e-6) }' || fail "the pressed box moved more than 2 mm: $box"
 summary=$(grep "crosscheck backend" "$log") || fail "no service summary"
-hits=$(echo "$summary" | sed -nE 's/.* ([0-9]+) tip hits.*/\1/p')
-[ "${hits:-0}" -gt 0 ] || fail "the tip never hit a body: $summary"
 echo "$summary" | awk '{ for (i = 1; i <= NF; i++) if ($i == "force") f = $(i + 1) } END { exit !(f > 0.2 && f <= 3.3) }' ||
   fail "max force outside 0.2..3.3 N (the clamp): $summary"
 div=$(grep "max divergence from MuJoCo" "$log") || fail "no divergence summary"

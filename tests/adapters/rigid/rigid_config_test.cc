@@ -13,19 +13,21 @@ Config params(const std::string& text) { return Config::parse(text, "r.yaml", "p
 
 TEST(RigidConfig, ReadsTheWorldAndItsBodies) {
   const RigidConfig r = rigid_config(params(
-      "device: left\nbackend: crosscheck\nground: off\nfriction: 0.7\nfloor_restitution: 0.1\ntip_radius: 0.003\n"
-      "stiffness: 800\nmax_force: 2\nmujoco_substeps: 4\n"
+      "device: left\nbackend: crosscheck\nground: off\npair_friction: 0.7\nfloor_restitution: 0.1\ntip_radius: 0.003\n"
+      "stiffness: 800\ndamping: 1.5\nmax_force: 2\nmujoco_substeps: 4\npair_restitution: 0.9\n"
       "bodies:\n  - {name: box, shape: cube, size: 0.02, mass: 0.05, centre: [0.01, 0, 0.02]}\n"
       "  - {name: ball, velocity: [0, 0, -1]}\n"));
   EXPECT_EQ(r.device, "left");
   EXPECT_EQ(r.backend, "crosscheck");
   EXPECT_FALSE(r.spec.ground);
-  EXPECT_EQ(r.spec.tip.friction, 0.7);
+  EXPECT_EQ(r.spec.pair.friction, 0.7);
+  EXPECT_EQ(r.spec.pair.restitution, 0.9);
   EXPECT_EQ(r.spec.floor.restitution, 0.1);
   EXPECT_EQ(r.spec.floor.friction, models::rigid::WorldSpec().floor.friction);
   EXPECT_EQ(r.spec.tip_radius, 0.003);
-  EXPECT_EQ(r.stiffness, 800);
-  EXPECT_EQ(r.max_force, 2);
+  EXPECT_EQ(r.coupling.stiffness, 800);
+  EXPECT_EQ(r.coupling.damping, 1.5);
+  EXPECT_EQ(r.coupling.max_force, 2);
   EXPECT_EQ(r.mujoco_substeps, 4);
   ASSERT_EQ(r.names, (std::vector<std::string>{"box", "ball"}));
   EXPECT_EQ(r.bodies[0].shape, models::rigid::Shape::cube);
@@ -42,8 +44,11 @@ TEST(RigidConfig, DefaultsAreTheDocumentedOnes) {
   EXPECT_EQ(r.device, "omni");
   EXPECT_EQ(r.backend, "analytic");
   EXPECT_TRUE(r.spec.ground);
-  EXPECT_EQ(r.stiffness, 500);
-  EXPECT_EQ(r.max_force, 3.3);
+  EXPECT_EQ(r.coupling.stiffness, 500);
+  EXPECT_EQ(r.coupling.damping, 2);
+  EXPECT_EQ(r.coupling.max_force, 3.3);
+  EXPECT_EQ(r.spec.pair.restitution, 0.5);
+  EXPECT_EQ(r.spec.pair.friction, 0.3);
   EXPECT_EQ(r.mujoco_substeps, 10);
 }
 

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "models/rigid/collide.h"
 #include "models/rigid/world.h"
 
 namespace hcosim::models::rigid {
@@ -218,12 +219,96 @@ TEST(Rigid, AirFrictionStopsMotion) {
   EXPECT_TRUE(w.bodies()[0].sleeping) << "after " << n << " steps";
 }
 
+// Body 1 thrown at body 0 at rest in free space, off its centre line:
+// every hit keeps linear momentum to rounding, with and without friction;
+// an elastic frictionless one keeps kinetic energy to rounding too; the
+// bodies end apart.
+TEST(RigidPairs, HitsConserveMomentumAndElasticOnesEnergy) {
+  const Eigen::Quaterniond turned(Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitZ()));
+  for (const auto& [target, mover] : {std::pair{Shape::sphere, Shape::sphere}, std::pair{Shape::cube, Shape::sphere},
+                                      std::pair{Shape::sphere, Shape::cube}, std::pair{Shape::cube, Shape::cube}})
+    for (const double y : {0.0, 0.006, 0.014})
+      for (const Material m : {Material{1, 0}, Material{0.5, 0}, Material{0.5, 0.5}}) {
+        WorldSpec s = free_space(1, 0, 0);
+        s.pair = m;
+        Body moving = body(mover, 0.02, 0.05);
+        moving.x = Eigen::Vector3d(-0.06, y, 0.003), moving.v = Eigen::Vector3d(1, 0.1, 0), moving.q = turned;
+        World w(s, {body(target), moving});
+        w.set_tip({Eigen::Vector3d(1, 1, 1), Eigen::Vector3d::Zero()});
+        const Eigen::Vector3d p0 = w.momentum();
+        const double e0 = w.kinetic_energy();
+        int touches = 0;
+        for (int n = 0; n < 100; ++n) touches += w.step(1e-3).touches;
+        SCOPED_TRACE(std::string(name(target)) + " hit by " + name(mover) + ", y " + std::to_string(y) + ", e " +
+                     std::to_string(m.restitution) + ", mu " + std::to_string(m.friction));
+        EXPECT_GE(touches, 1);
+        EXPECT_LT((w.momentum() - p0).norm(), 1e-12 * p0.norm());
+        if (m.restitution == 1 && m.friction == 0) EXPECT_NEAR(w.kinetic_energy(), e0, 1e-12 * e0);
+        if (m.restitution < 1 || m.friction > 0) EXPECT_LT(w.kinetic_energy(), e0);
+        Contact c;
+        EXPECT_FALSE(collide(w.bodies()[0], w.bodies()[1], 0, c));
+      }
+}
+
+// 000 eq 2 between two bodies: equal spheres, elastic, head on, swap
+// their velocities.
+TEST(RigidPairs, EqualSpheresHeadOnSwapVelocities) {
+  WorldSpec s = free_space(1, 0, 0);
+  s.pair = Material{1, 0};
+  Body a = body(Shape::sphere), b = body(Shape::sphere);
+  b.x = Eigen::Vector3d(-0.1, 0, 0), b.v = Eigen::Vector3d(1, 0, 0);
+  World w(s, {a, b});
+  w.set_tip({Eigen::Vector3d(1, 1, 1), Eigen::Vector3d::Zero()});
+  for (int n = 0; n < 100; ++n) w.step(1e-3);
+  EXPECT_LT((w.bodies()[0].v - Eigen::Vector3d(1, 0, 0)).norm(), 1e-12);
+  EXPECT_LT(w.bodies()[1].v.norm(), 1e-12);
+}
+
+// A sphere dropped on a cube resting on the marker comes to rest on its
+// top; a cube dropped on a resting sphere falls off it onto the plane; a
+// cube dropped on a cube comes to rest on it. No two bodies ever overlap by more
+// than one step's travel at the speed of impact, and all end asleep.
+TEST(RigidPairs, DroppedBodiesComeToRestOnEachOther) {
+  const double a = 0.012;
+  struct Case {
+    Shape low, high;
+    double x;  // m, the dropped body's offset from the low one's axis
+  };
+  for (const Case& k : {Case{Shape::cube, Shape::sphere, 0.002}, Case{Shape::sphere, Shape::cube, 0.004},
+                        Case{Shape::cube, Shape::cube, 0.003}}) {
+    Body low = body(k.low, a, 0.05), high = body(k.high, a, 0.05);
+    low.x = Eigen::Vector3d(0, 0, a), high.x = Eigen::Vector3d(k.x, 0, 3 * a + 0.01);
+    World w(WorldSpec{}, {low, high});
+    w.set_tip({Eigen::Vector3d(1, 1, 1), Eigen::Vector3d::Zero()});
+    double worst = 0;
+    int n = 0;
+    for (; n < 20000 && !(w.bodies()[0].sleeping && w.bodies()[1].sleeping); ++n) {
+      w.step(1e-3);
+      Contact c;
+      if (collide(w.bodies()[0], w.bodies()[1], 0, c)) worst = std::max(worst, c.depth);
+    }
+    SCOPED_TRACE(std::string(name(k.high)) + " on " + name(k.low));
+    EXPECT_TRUE(w.bodies()[0].sleeping && w.bodies()[1].sleeping) << "after " << n << " steps";
+    EXPECT_LT(worst, 5e-4);  // one step's travel at the 0.44 m/s of impact
+    const Body& top = w.bodies()[1];
+    if (k.low == Shape::sphere) {
+      EXPECT_NEAR(top.x.z(), a, 1e-4);  // on the plane, beside the sphere
+    } else {
+      EXPECT_NEAR(top.x.z(), 3 * a, 1e-4);  // on the cube
+      EXPECT_NEAR(w.bodies()[0].x.z(), a, 1e-6);
+    }
+  }
+}
+
 TEST(Rigid, BadInputIsRefused) {
   Body bad = body(Shape::cube);
   bad.mass = -1;
   EXPECT_THROW(World(WorldSpec{}, {bad}), std::invalid_argument);
   WorldSpec s;
   s.tip.restitution = 1.5;
+  EXPECT_THROW(World(s, {body(Shape::cube)}), std::invalid_argument);
+  s = WorldSpec{};
+  s.pair.friction = -1;
   EXPECT_THROW(World(s, {body(Shape::cube)}), std::invalid_argument);
   World w(WorldSpec{}, {body(Shape::cube)});
   EXPECT_THROW(w.set_tip({Eigen::Vector3d(NAN, 0, 0), Eigen::Vector3d::Zero()}), std::invalid_argument);
