@@ -65,7 +65,8 @@ Scene parse_scene(const Config& c) {
   if (c.has("marker")) {
     if (!c.node()["marker"].IsMap()) c.fail("marker", "'marker' must be a map");
     const Config m = c.map("marker");
-    m.allow_only({"family", "id", "size"});
+    m.allow_only({"family", "id", "size", "friction"});
+    if (m.has("friction")) m.number("friction", 0.5, 0, 10);  // checked here, where its line is known
     scene.marker = m.node();
   }
   if (c.has("camera")) {
@@ -117,6 +118,8 @@ void add_scene(const std::string& file, const Scene& scene, ServiceSpec& s, cons
     }
     return list;
   };
+  if (s.kind == "rigid" && scene.marker.IsMap() && scene.marker["friction"] && !params["floor_friction"])
+    params["floor_friction"] = scene.marker["friction"];
   if (s.kind == "deformable" || s.kind == "rigid") {
     const char* key = s.kind == "rigid" ? "bodies" : "objects";
     if (!params[key]) {

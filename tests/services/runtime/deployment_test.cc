@@ -169,6 +169,27 @@ TEST(Deployment, TheArViewGetsEveryObjectAndTheMarker) {
   EXPECT_EQ(no_camera.services[0].unneeded, "the scene has no camera");
 }
 
+// The marker's friction is the plane's for the rigid bodies; a service's
+// own floor_friction wins; a bad one is named at its line.
+TEST(Deployment, TheMarkersFrictionIsThePlanesForRigidBodies) {
+  const std::string f = write_file("plane.yaml",
+                                   "scene:\n  marker: {id: 0, friction: 0.8}\n"
+                                   "  objects: [{name: box, kind: rigid, shape: cube, size: 0.01}]\n"
+                                   "services:\n  - {name: bodies, kind: rigid, rate: 100}\n"
+                                   "  - {name: own, kind: rigid, rate: 100, params: {floor_friction: 0.1}}\n");
+  const Deployment d = load_deployment(f);
+  EXPECT_EQ(adapters::Config(f, d.services[0].params).number("floor_friction", 0, 0, 10), 0.8);
+  EXPECT_EQ(adapters::Config(f, d.services[1].params).number("floor_friction", 0, 0, 10), 0.1);
+  std::string e = "no error";
+  try {
+    load_deployment(write_file("bad_plane.yaml", "scene:\n  marker: {friction: -2}\nservices: []\n"));
+  } catch (const ConfigError& x) {
+    e = x.what();
+  }
+  EXPECT_NE(e.find("bad_plane.yaml:2:"), std::string::npos) << e;
+  EXPECT_NE(e.find("'friction' = -2 is outside [0, 10]"), std::string::npos) << e;
+}
+
 TEST(Deployment, AServicesErrorAboutASceneObjectNamesItsLine) {
   const std::string f = write_file("keys.yaml",
                                    "scene:\n  objects:\n    - {name: box, kind: rigid, size: 0.01}\n"
