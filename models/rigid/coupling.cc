@@ -24,9 +24,11 @@ Touch Coupling::touch(const Body& b, double tip_radius, const Eigen::Vector3d& h
   t.normal = nearest(b, t.proxy, tip_radius).normal;
   t.depth = (t.proxy - h).norm();
   // The damper on the normal approach speed of the body's point at the
-  // proxy and the HIP; a receding body that would be pulled is let go.
+  // proxy and the HIP, in proportion to depth; a receding body that would
+  // be pulled is let go.
+  constexpr double kPerMm = 1e3;  // 1/m: the damping is given per mm of depth
   const double approach = t.normal.dot(point_velocity(b, t.proxy) - hv);
-  t.force = spec_.stiffness * (t.proxy - h) + spec_.damping * approach * t.normal;
+  t.force = spec_.stiffness * (t.proxy - h) + spec_.damping * kPerMm * t.depth * approach * t.normal;
   if (t.force.dot(t.normal) <= 0) {
     t.force.setZero();
   } else if (t.force.norm() > spec_.max_force) {

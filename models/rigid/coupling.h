@@ -5,7 +5,9 @@
 // feels is what moves the body: pushing a cube costs its inertia and its
 // friction on the marker plane, no more. The damper acts along the contact
 // normal only, so that a sliding stroke's tangential force is friction's
-// alone, and the coupling never pulls.
+// alone, and it grows with depth (Hunt and Crossley 1975), so that a
+// contact starts with the spring alone and no kick; the coupling never
+// pulls.
 #pragma once
 
 #include <Eigen/Core>
@@ -18,7 +20,7 @@ namespace hcosim::models::rigid {
 
 struct CouplingSpec {
   double stiffness = 500;  // N/m, > 0
-  double damping = 2;      // N s/m, >= 0, along the contact normal
+  double damping = 1;      // N s/m per mm of depth, >= 0, along the contact normal
   double max_force = 3.3;  // N, > 0: the force's norm is clamped here (the PHANToM Omni's peak)
 };
 

@@ -45,7 +45,7 @@ TEST(RigidConfig, DefaultsAreTheDocumentedOnes) {
   EXPECT_EQ(r.backend, "analytic");
   EXPECT_TRUE(r.spec.ground);
   EXPECT_EQ(r.coupling.stiffness, 500);
-  EXPECT_EQ(r.coupling.damping, 2);
+  EXPECT_EQ(r.coupling.damping, 1);
   EXPECT_EQ(r.coupling.max_force, 3.3);
   EXPECT_EQ(r.spec.pair.restitution, 0.5);
   EXPECT_EQ(r.spec.pair.friction, 0.3);
