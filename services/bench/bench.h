@@ -108,6 +108,9 @@ Suite arview_suite();
 // The default deployment for half an hour: soak.cc.
 Suite soak_suite();
 
+// What the hand feels from each object kind through the services: contact.cc.
+Suite contact_suite();
+
 // deploy/default.yaml's scene and services in real time on `domain`, its
 // tour repeated to last `seconds`, for `duration` s (0: until stopped), the
 // device's closing report written to `device_report` when one is named;
@@ -115,9 +118,10 @@ Suite soak_suite();
 std::filesystem::path default_deployment(const std::filesystem::path& dir, int domain, double seconds, double duration,
                                          const std::filesystem::path& device_report = {});
 
-// `hcosim up DEPLOYMENT --out OUT` in a child process, its output to `log`.
+// `hcosim up DEPLOYMENT --out OUT` in a child process, its output to `log`;
+// with `--record RECORD` when one is named.
 pid_t start_up(const std::filesystem::path& deployment, const std::filesystem::path& out,
-               const std::filesystem::path& log);
+               const std::filesystem::path& log, const std::filesystem::path& record = {});
 
 // The DDS transport: haptic round trips and mesh publishing against bare
 // Fast DDS: dds.cc.

@@ -186,13 +186,17 @@ std::vector<Row> soak_rows(const Context& c) {
 
 }  // namespace
 
-pid_t start_up(const fs::path& deployment, const fs::path& out, const fs::path& log) {
+pid_t start_up(const fs::path& deployment, const fs::path& out, const fs::path& log, const fs::path& record) {
   const std::string self = fs::read_symlink("/proc/self/exe").string();
   const pid_t pid = fork();
   if (pid == 0) {
     freopen(log.c_str(), "w", stdout);
     freopen(log.c_str(), "a", stderr);
-    execl(self.c_str(), self.c_str(), "up", deployment.c_str(), "--out", out.c_str(), nullptr);
+    if (record.empty())
+      execl(self.c_str(), self.c_str(), "up", deployment.c_str(), "--out", out.c_str(), nullptr);
+    else
+      execl(self.c_str(), self.c_str(), "up", deployment.c_str(), "--out", out.c_str(), "--record", record.c_str(),
+            nullptr);
     _exit(127);
   }
   return pid;
