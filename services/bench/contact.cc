@@ -25,6 +25,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -242,6 +243,8 @@ Row measure(const Kind& k, const std::map<std::uint64_t, Tick>& ticks) {
     for (const double f : hold) sum += f, squares += f * f;
     const double mean = sum / double(hold.size());
     row.metrics.push_back({"hold_mean_n", mean});
+    row.metrics.push_back({"hold_min_n", *std::min_element(hold.begin(), hold.end())});
+    row.metrics.push_back({"hold_max_n", *std::max_element(hold.begin(), hold.end())});
     row.metrics.push_back(
         {"hold_spread_pct", 100 * std::sqrt(std::max(0.0, squares / double(hold.size()) - mean * mean)) / mean});
   }
@@ -316,7 +319,7 @@ Suite contact_suite() {
                "`entry_angle_deg` the largest angle from the face's normal pressing a frictionless twin between its "
                "nodes (the object itself for kinds without a friction key); `onset_ratio` the first contact tick's "
                "force over the answer's stiffness times that tick's motion; `hold_spread_pct` the force's standard "
-               "deviation over its mean in the last 0.5 s of a 1 s hold; `push_ratio` a 50 g cube's mean felt force "
+               "deviation over its mean in the last 0.5 s of a 1 s hold (`hold_min_n`, `hold_max_n` its range); `push_ratio` a 50 g cube's mean felt force "
                "pushed at 5 cm/s over floor friction times its weight."}};
   s.goals = {
       {"tangential over normal while sliding at most the friction + 0.02", "contact", "stroke_excess", 0.02},
