@@ -6,7 +6,7 @@
 namespace hcosim::adapters::deformable {
 namespace {
 
-ObjectConfig object(const Config& o, double servo_dt) {
+ObjectConfig object(const Config& o, double servo_dt, double tip_radius) {
   ObjectConfig c;
   c.name = o.string("name", "");
   if (c.name.empty() || c.name.size() > 31) o.fail("name", "each object needs a name of 1 to 31 characters");
@@ -26,6 +26,8 @@ ObjectConfig object(const Config& o, double servo_dt) {
     s.visual_subdivisions = o.whole("visual_subdivisions", s.visual_subdivisions, 1, 300);
     s.visual_exponent = o.number("rounding", s.visual_exponent, 2, 64);
     s.friction = device::friction_config(o);
+    s.tip_radius = tip_radius;
+    if (tip_radius >= 0.5 * s.size) o.fail("size", "the object must be wider than the stylus tip (tip_radius)");
     return c;
   }
   o.allow_only({"name", "model", "centre", "size", "resolution", "stiffness", "damping", "prestretch"});
@@ -38,18 +40,21 @@ ObjectConfig object(const Config& o, double servo_dt) {
   s.material.b = o.number("damping", s.material.b, 0, 1e3);
   s.prestretch = o.number("prestretch", s.prestretch, 0, 0.4);
   s.options.dt = servo_dt;
+  s.tip_radius = tip_radius;
+  if (tip_radius >= 0.5 * s.size) o.fail("size", "the object must be wider than the stylus tip (tip_radius)");
   return c;
 }
 
 }  // namespace
 
 DeformableConfig deformable_config(const Config& p, double servo_dt) {
-  p.allow_only({"device", "visual_rate", "objects"});
+  p.allow_only({"device", "visual_rate", "objects", "tip_radius"});
   DeformableConfig d;
   d.device = p.string("device", d.device);
   d.visual_rate_hz = p.number("visual_rate", d.visual_rate_hz, 1, 240);
+  const double tip_radius = p.number("tip_radius", 0, 0, 0.01);
   for (const Config& o : p.list("objects")) {
-    ObjectConfig c = object(o, servo_dt);
+    ObjectConfig c = object(o, servo_dt, tip_radius);
     for (const ObjectConfig& other : d.objects)
       if (other.name == c.name) o.fail("name", "two objects are named '" + c.name + "'");
     d.objects.push_back(std::move(c));

@@ -8,7 +8,7 @@ namespace hcosim::adapters::device {
 
 DeviceConfig device_config(const Config& p, double servo_hz) {
   p.allow_only({"device", "replay", "script", "passivity", "source_timeout", "max_damping", "reservoir",
-                "hand_stiffness", "hand_damping", "centre", "answer_wait", "report"});
+                "hand_stiffness", "hand_damping", "centre", "answer_wait", "report", "tip_radius"});
   DeviceConfig c;
   c.replay = p.text("device", "simulated", {"simulated", "replay"}) == "replay";
   c.source = p.path(c.replay ? "replay" : "script");
@@ -28,6 +28,7 @@ DeviceConfig device_config(const Config& p, double servo_hz) {
   const double dt = 1 / servo_hz;
   c.answer_wait = p.number("answer_wait", kAnswerShare * dt, 0, 0.9 * dt);
   c.report = p.output_path("report");
+  c.tip_radius = p.number("tip_radius", c.tip_radius, 0, 0.01);
   return c;
 }
 

@@ -24,6 +24,9 @@ struct DeviceConfig {
   double source_timeout = 0.05;   // s after which a silent source drops out of the sum
   double answer_wait = 0;         // s a real-time tick waits for its answers
   std::string report;             // where to write the run's report (JSON), "" none
+  // m: the stylus tip's radius, 0 a point. hcosim up gives it to the
+  // services that serve this device's contacts (their `tip_radius`).
+  double tip_radius = 0;
 };
 
 // `servo_hz`: the service's rate. Throws adapters::ConfigError at

@@ -41,7 +41,7 @@ RigidConfig rigid_config(const Config& p) {
   r.spec.ground = p.on("ground", r.spec.ground);
   r.spec.pair = material(p, "pair_", r.spec.pair);
   r.spec.floor = material(p, "floor_", r.spec.floor);
-  r.spec.tip_radius = p.number("tip_radius", r.spec.tip_radius, 0, 0.05);
+  r.spec.tip_radius = p.number("tip_radius", 0, 0, 0.01);  // a point unless told (the device's, by hcosim up)
   r.coupling.stiffness = p.number("stiffness", r.coupling.stiffness, 1, 1e4);
   r.coupling.damping = p.number("damping", r.coupling.damping, 0, 100);
   r.coupling.max_force = p.number("max_force", r.coupling.max_force, 0.1, 100);

@@ -20,6 +20,7 @@ ElasticSurface::ElasticSurface(const SurfaceSpec& spec) : spec_(spec) {
   need(spec.size > 0 && std::isfinite(spec.size), "size must be finite and > 0");
   need(spec.centre.allFinite(), "centre must be finite");
   need(spec.prestretch >= 0 && spec.prestretch < 0.5, "prestretch must be in [0, 0.5)");
+  need(spec.tip_radius >= 0 && spec.tip_radius < 0.5 * spec.size, "tip_radius must be in [0, size / 2)");
   const int n = spec.resolution;
   models::massspring::Lattice l;
   if (spec.shape == Shape::sheet) {
@@ -68,18 +69,25 @@ bool ElasticSurface::inside(const Eigen::Vector3d& hip) const {
 
 Eigen::AlignedBox3d ElasticSurface::reach() const {
   const Eigen::Vector3d& c = spec_.centre;
+  const Eigen::Vector3d r = Eigen::Vector3d::Constant(spec_.tip_radius);
   if (spec_.shape == Shape::sheet) {
     const double half = 0.5 * spec_.size;
-    return {c - Eigen::Vector3d(half, half, half), c + Eigen::Vector3d(half, half, 0)};
+    return {c - Eigen::Vector3d(half, half, half) - r, c + Eigen::Vector3d(half, half, 0) + r};
   }
-  return {c - Eigen::Vector3d(spec_.size, spec_.size, 0), c + Eigen::Vector3d::Constant(spec_.size)};
+  return {c - Eigen::Vector3d(spec_.size, spec_.size, 0) - r, c + Eigen::Vector3d::Constant(spec_.size) + r};
 }
 
-Touch ElasticSurface::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
+Touch ElasticSurface::touch(double dt, const Eigen::Vector3d& hip_centre, bool grab) {
   need(std::isfinite(dt) && std::abs(dt - spec_.options.dt) <= 1e-9 * spec_.options.dt,
        "touch dt must equal the behavior step options.dt");
-  need(hip.allFinite(), "the haptic point must be finite");
+  need(hip_centre.allFinite(), "the haptic point must be finite");
   const models::massspring::Lattice& l = sim_->lattice();
+  // The tip sphere's point nearest the surface: its centre less its radius
+  // along the rest surface's outward normal there.
+  Eigen::Vector3d out = Eigen::Vector3d::UnitZ();
+  if (spec_.shape == Shape::semisphere && (hip_centre - spec_.centre).norm() > 0)
+    out = (hip_centre - spec_.centre).normalized();
+  const Eigen::Vector3d hip = hip_centre - spec_.tip_radius * out;
   if (contact_ < 0 && inside(hip)) {
     // The free vertex nearest the HIP's rest-surface projection.
     double best = 1e300;

@@ -27,6 +27,9 @@ struct SurfaceSpec {
   // length in the frame, so it is taut. A slack membrane has no linear
   // stiffness out of its plane: pressed, it creeps back over seconds.
   double prestretch = 0.05;
+  // m, >= 0: the stylus tip's; the surface is touched by the tip's sphere,
+  // at the HIP less this along the surface's outward normal.
+  double tip_radius = 0;
   models::massspring::Options options = [] {
     models::massspring::Options o;
     o.integrator = models::massspring::Integrator::symplectic_euler;

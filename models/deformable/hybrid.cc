@@ -48,6 +48,7 @@ void check(const HybridSpec& s) {
   need(s.visual_subdivisions >= 1 && s.visual_subdivisions <= 1000, "visual_subdivisions must be in [1, 1000]");
   need(s.keep > 0 && s.keep <= 1, "keep must be in (0, 1]");
   need(s.visual_tolerance >= 0 && s.visual_tolerance < s.size, "visual_tolerance must be in [0, size)");
+  need(s.tip_radius >= 0 && s.tip_radius < 0.5 * s.size, "tip_radius must be in [0, size / 2)");
 }
 
 ChainLattice hybrid_chains(const HybridSpec& s) {
@@ -124,21 +125,20 @@ Hybrid::Hybrid(const HybridSpec& spec, const MapSource& map)
   }
   columns_ = weights_.cast<float>();
   mesh_ = std::make_unique<MeshProxy>(visual_.triangles, int(visual_.vertices.cols()));
+  surface_ = mesh_->grown(visual_.vertices, spec.tip_radius);
   // Cells of about two visual edges: a tick's path meets a few of them.
   const double edge = spec.size / spec.visual_subdivisions;
-  faces_ = std::make_unique<FaceGrid>(visual_.vertices, visual_.triangles, 2 * edge, 1e-9);
+  faces_ = std::make_unique<FaceGrid>(surface_, visual_.triangles, 2 * edge, 1e-9);
   tick_load_.setZero(3, lat.size());
   load_sum_.setZero(3, lat.size());
 }
 
-Eigen::Vector3d Hybrid::proxy() const {
-  return contact_.face < 0 ? last_hip_ : mesh_->point(visual_.vertices, contact_);
-}
+Eigen::Vector3d Hybrid::proxy() const { return contact_.face < 0 ? last_hip_ : mesh_->point(surface_, contact_); }
 
 Touch Hybrid::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
   need(dt > 0 && std::isfinite(dt), "dt must be finite and > 0");
   need(hip.allFinite(), "the haptic point must be finite");
-  const Eigen::Matrix3Xd& rest = visual_.vertices;
+  const Eigen::Matrix3Xd& rest = surface_;
   if (contact_.face < 0 && reach().contains(hip)) {
     if (has_last_) {
       Eigen::AlignedBox3d path(last_hip_);

@@ -56,6 +56,7 @@ struct HybridSpec {
   // hundredth of a pixel for a 600 px focal length at 0.5 m.
   double visual_tolerance = 1e-5;
   haptic::Friction friction;  // the stylus on the surface
+  double tip_radius = 0;      // m, >= 0: the stylus tip's; its centre touches the surface grown by it
 };
 
 // Throws std::invalid_argument naming the first bad field.
@@ -107,7 +108,10 @@ class Hybrid final : public Object {
   // the visual rest mesh plus their map, reading only the cage vertices
   // that moved (apply_moved); exactly the rest mesh at rest, whatever the
   // map's precision.
-  Eigen::AlignedBox3d reach() const override { return {lo_, hi_}; }  // contact begins inside the rest box
+  // Contact begins inside the rest box grown by the tip's radius.
+  Eigen::AlignedBox3d reach() const override {
+    return {lo_ - Eigen::Vector3d::Constant(spec_.tip_radius), hi_ + Eigen::Vector3d::Constant(spec_.tip_radius)};
+  }
   Eigen::Matrix3Xd cage() const override;
   Eigen::Matrix3Xd surface_from(const Eigen::Matrix3Xd& cage) const override;
   const std::vector<Eigen::Vector3i>& triangles() const override { return visual_.triangles; }
@@ -121,7 +125,8 @@ class Hybrid final : public Object {
   const std::vector<int>& cage_masses() const { return cage_; }  // masses the map reads, in its column order
   int simulated() const { return simulated_; }                   // masses the last behavior step integrated
   // The proxy's material point on the visual mesh (face -1: no contact),
-  // and where it is on the rest surface.
+  // and where it is on the rest surface grown by the tip's radius (the
+  // tip's centre).
   const SurfacePoint& contact() const { return contact_; }
   Eigen::Vector3d proxy() const;
   // N, by mass: the load the last touch() put on the behavior model; its
@@ -139,7 +144,8 @@ class Hybrid final : public Object {
   ColumnWeights columns_;    // weights_ by columns, for apply_moved
   Eigen::Vector3d lo_, hi_;  // m, the rest box
   std::unique_ptr<MeshProxy> mesh_;
-  std::unique_ptr<FaceGrid> faces_;  // of the visual rest mesh, for entry
+  Eigen::Matrix3Xd surface_;         // the visual rest mesh grown by the tip's radius: where the proxy lives
+  std::unique_ptr<FaceGrid> faces_;  // of surface_, for entry
   std::vector<int> near_;            // the faces near the HIP's path, kept between ticks
   haptic::FrictionCone cone_;
   SurfacePoint contact_;

@@ -89,6 +89,20 @@ Eigen::Vector3d MeshProxy::normal(const Eigen::Matrix3Xd& x, const SurfacePoint&
   return len > 0 ? Eigen::Vector3d(n / len) : normal(x, p.face);
 }
 
+Eigen::Matrix3Xd MeshProxy::grown(const Eigen::Matrix3Xd& x, double r) const {
+  Eigen::Matrix3Xd out = x;
+  if (r == 0) return out;
+  for (int v = 0; v < int(x.cols()); ++v) {
+    Eigen::Vector3d n = Eigen::Vector3d::Zero();
+    for (const int f : incident_[std::size_t(v)]) {
+      const Eigen::Vector3i& u = triangles_[f];
+      n += (x.col(u[1]) - x.col(u[0])).cross(x.col(u[2]) - x.col(u[0]));
+    }
+    if (n.norm() > 0) out.col(v) += r * n.normalized();
+  }
+  return out;
+}
+
 Eigen::Vector3d MeshProxy::point(const Eigen::Matrix3Xd& x, const SurfacePoint& p) const {
   const Eigen::Vector3i& t = triangles_[p.face];
   return p.bary[0] * x.col(t[0]) + p.bary[1] * x.col(t[1]) + p.bary[2] * x.col(t[2]);

@@ -61,6 +61,10 @@ class MeshProxy {
   const Eigen::Vector3i& triangle(int face) const { return triangles_[face]; }
   int faces() const { return int(triangles_.size()); }
 
+  // The surface grown by r (m, >= 0): each vertex moved out along its
+  // area-weighted normal, the surface a tip of radius r's centre touches.
+  Eigen::Matrix3Xd grown(const Eigen::Matrix3Xd& x, double r) const;
+
  private:
   std::vector<Eigen::Vector3i> triangles_;
   std::vector<std::vector<int>> ring_;      // per face: the faces sharing a vertex with it, itself included

@@ -319,7 +319,8 @@ Suite contact_suite() {
                "`entry_angle_deg` the largest angle from the face's normal pressing a frictionless twin between its "
                "nodes (the object itself for kinds without a friction key); `onset_ratio` the first contact tick's "
                "force over the answer's stiffness times that tick's motion; `hold_spread_pct` the force's standard "
-               "deviation over its mean in the last 0.5 s of a 1 s hold (`hold_min_n`, `hold_max_n` its range); `push_ratio` a 50 g cube's mean felt force "
+               "deviation over its mean in the last 0.5 s of a 1 s hold (`hold_min_n`, `hold_max_n` its range); "
+               "`push_ratio` a 50 g cube's mean felt force "
                "pushed at 5 cm/s over floor friction times its weight."}};
   s.goals = {
       {"tangential over normal while sliding at most the friction + 0.02", "contact", "stroke_excess", 0.02},

@@ -170,6 +170,28 @@ Mode parse_mode(const std::string& s) {
   throw std::invalid_argument("mode must be 'realtime' or 'lockstep', not '" + s + "'");
 }
 
+namespace {
+
+// A haptic service's `tip_radius` is its stylus's: every rigid and
+// deformable service serving that device's contacts gets it, unless its
+// params give their own. Checked here, so that a bad one is named at its
+// line before anything starts.
+void give_tip_radius(const std::string& file, Deployment& d) {
+  for (const ServiceSpec& device : d.services) {
+    if (device.kind != "haptic" || !device.params["tip_radius"]) continue;
+    adapters::Config(file, device.params).number("tip_radius", 0, 0, 0.01);
+    for (ServiceSpec& s : d.services) {
+      if (s.kind != "rigid" && s.kind != "deformable") continue;
+      const YAML::Node dev = s.params["device"];
+      if ((dev && dev.IsScalar() ? dev.Scalar() : std::string("omni")) != device.name) continue;
+      YAML::Node params = s.params;
+      if (!params["tip_radius"]) params["tip_radius"] = device.params["tip_radius"];
+    }
+  }
+}
+
+}  // namespace
+
 std::vector<ForceSource> force_sources(const Deployment& d, const std::string& device) {
   std::vector<ForceSource> out;
   for (const ServiceSpec& s : d.services) {
@@ -222,6 +244,7 @@ Deployment load_deployment(const std::string& path) {
       add_scene(path, d.scene, spec, s);
       d.services.push_back(std::move(spec));
     }
+    give_tip_radius(path, d);
   }
   return d;
 }

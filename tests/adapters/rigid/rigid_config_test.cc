@@ -46,6 +46,7 @@ TEST(RigidConfig, DefaultsAreTheDocumentedOnes) {
   EXPECT_TRUE(r.spec.ground);
   EXPECT_EQ(r.coupling.stiffness, 500);
   EXPECT_EQ(r.coupling.damping, 1);
+  EXPECT_EQ(r.spec.tip_radius, 0);  // a point, unless the device or the params say
   EXPECT_EQ(r.coupling.max_force, 3.3);
   EXPECT_EQ(r.spec.pair.restitution, 0.5);
   EXPECT_EQ(r.spec.pair.friction, 0.3);

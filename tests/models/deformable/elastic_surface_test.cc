@@ -1,5 +1,6 @@
 // Seed 000's elastic surfaces: the sheet pressed at one vertex pushes back
 // and recovers; the semi-sphere dents inward and its mesh faces outward.
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -52,6 +53,33 @@ TEST(ElasticSurface, SemiSphereDentsInwardAndItsMeshFacesOutward) {
   EXPECT_TRUE(t.in_contact);
   EXPECT_GT(t.force.z(), 0);
   EXPECT_TRUE(dome.state().x.allFinite());
+}
+
+// A tip of radius r touches a surface when its centre comes within r of
+// it: the sheet r above its plane, the dome r outside its sphere; a point
+// tip (r = 0) at the surface itself.
+TEST(ElasticSurface, ATipWithARadiusTouchesAtThatDistance) {
+  for (const Shape shape : {Shape::sheet, Shape::semisphere})
+    for (const double tip : {0.0, 0.002}) {
+      SurfaceSpec s;
+      s.shape = shape;
+      s.size = 0.04;
+      s.tip_radius = tip;
+      s.options.dt = 1e-3;
+      ElasticSurface surface(s);
+      const Eigen::Vector3d d = shape == Shape::sheet ? Eigen::Vector3d(0.0013, 0.0021, 1).normalized()
+                                                      : Eigen::Vector3d(0.3, 0.2, 1).normalized();
+      const double rest = shape == Shape::sheet ? 0 : s.size;  // the surface's distance along d (sheet: its plane)
+      double at = NAN;
+      for (double r = rest + 0.01; r > rest - 0.005 && std::isnan(at); r -= 1e-5) {
+        const Eigen::Vector3d hip = shape == Shape::sheet ? Eigen::Vector3d(0.0013, 0.0021, r) : Eigen::Vector3d(r * d);
+        if (surface.touch(1e-3, hip, false).in_contact) at = r;
+      }
+      EXPECT_NEAR(at, rest + tip, 2e-5) << (shape == Shape::sheet ? "sheet" : "dome") << ", tip " << tip;
+    }
+  SurfaceSpec bad;
+  bad.tip_radius = -1;
+  EXPECT_THROW(ElasticSurface{bad}, std::invalid_argument);
 }
 
 }  // namespace

@@ -180,19 +180,23 @@ Eigen::Vector3d direction(int k, int of) {
 
 // Touched from 100 directions (the lower half too: the anchored bottom is
 // drawn as well), coming in at 0.05 mm a tick: contact begins within
-// 0.5 mm of the drawn surface, never at the cage's box.
+// 0.5 mm of the drawn surface (of it grown by the tip's radius, for a tip
+// of 2 mm), never at the cage's box.
 TEST(Hybrid, TheOrganIsTouchedWhereItsSurfaceIsDrawn) {
-  const HybridSpec s = organ();
-  Hybrid h(s);
-  const double half = 0.5 * s.size;
-  for (int k = 0; k < 100; ++k) {
-    const Eigen::Vector3d d = direction(k, 100);
-    double at = -1;
-    for (double r = 1.2 * std::sqrt(3) * half; r > 0 && at < 0; r -= 5e-5)
-      if (h.touch(1e-3, s.centre + r * d, false).in_contact) at = r;
-    for (int n = 0; n < 3; ++n) h.touch(1e-3, s.centre + 2 * half * std::sqrt(3) * d, false);  // out again
-    ASSERT_GT(at, 0) << "no contact along " << d.transpose();
-    EXPECT_NEAR(at, half, 5e-4) << "along " << d.transpose();
+  for (const double tip : {0.0, 0.002}) {
+    HybridSpec s = organ();
+    s.tip_radius = tip;
+    Hybrid h(s);
+    const double half = 0.5 * s.size;
+    for (int k = 0; k < 100; ++k) {
+      const Eigen::Vector3d d = direction(k, 100);
+      double at = -1;
+      for (double r = 1.2 * std::sqrt(3) * half; r > 0 && at < 0; r -= 5e-5)
+        if (h.touch(1e-3, s.centre + r * d, false).in_contact) at = r;
+      for (int n = 0; n < 3; ++n) h.touch(1e-3, s.centre + 2 * half * std::sqrt(3) * d, false);  // out again
+      ASSERT_GT(at, 0) << "no contact along " << d.transpose();
+      EXPECT_NEAR(at, half + tip, 5e-4) << "along " << d.transpose() << ", tip radius " << tip;
+    }
   }
 }
 

@@ -190,6 +190,35 @@ TEST(Deployment, TheMarkersFrictionIsThePlanesForRigidBodies) {
   EXPECT_NE(e.find("'friction' = -2 is outside [0, 10]"), std::string::npos) << e;
 }
 
+// The device's tip_radius reaches the services of its contacts (not
+// those of another device, nor one that sets its own); a bad one is named
+// at its line.
+TEST(Deployment, TheDevicesTipRadiusReachesItsContactServices) {
+  const std::string f =
+      write_file("tip.yaml",
+                 "scene:\n  objects: [{name: box, kind: rigid}, {name: cube, kind: deformable, model: hybrid}]\n"
+                 "services:\n  - {name: omni, kind: haptic, rate: 1000, params: {script: s.yaml, tip_radius: 0.0015}}\n"
+                 "  - {name: bodies, kind: rigid, rate: 1000}\n"
+                 "  - {name: objects, kind: deformable, rate: 1000}\n"
+                 "  - {name: own, kind: rigid, rate: 1000, params: {tip_radius: 0.001}}\n"
+                 "  - {name: other, kind: rigid, rate: 1000, params: {device: left}}\n");
+  const Deployment d = load_deployment(f);
+  const auto tip = [&](int i) { return adapters::Config(f, d.services[i].params).number("tip_radius", -1, -1, 1); };
+  EXPECT_EQ(tip(1), 0.0015);
+  EXPECT_EQ(tip(2), 0.0015);
+  EXPECT_EQ(tip(3), 0.001);
+  EXPECT_EQ(tip(4), -1);
+  std::string e = "no error";
+  try {
+    load_deployment(
+        write_file("bad_tip.yaml", "services:\n  - {name: omni, kind: haptic, rate: 1000, params: {tip_radius: 1}}\n"));
+  } catch (const ConfigError& x) {
+    e = x.what();
+  }
+  EXPECT_NE(e.find("bad_tip.yaml:2:"), std::string::npos) << e;
+  EXPECT_NE(e.find("'tip_radius' = 1 is outside [0, 0.01]"), std::string::npos) << e;
+}
+
 TEST(Deployment, AServicesErrorAboutASceneObjectNamesItsLine) {
   const std::string f = write_file("keys.yaml",
                                    "scene:\n  objects:\n    - {name: box, kind: rigid, size: 0.01}\n"
