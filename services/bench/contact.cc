@@ -86,7 +86,8 @@ std::string stroke_script(double x, double y, double top, double ex, double ey, 
 std::vector<Kind> kinds() {
   std::vector<Kind> out;
   {
-    Kind k{"hybrid_cube", "deformable"};
+    Kind k;
+    k.name = "hybrid_cube", k.service = "deformable";
     k.objects =
         "    - {name: cube, kind: deformable, model: hybrid, centre: [0, 0, 0.015], size: 0.03}\n"
         "    - {name: twin, kind: deformable, model: hybrid, centre: [0, 0.05, 0.015], size: 0.03, friction: 0}\n";
@@ -96,7 +97,8 @@ std::vector<Kind> kinds() {
   }
   {
     // The organ's +x half is four times stiffer: pressed from +x, held.
-    Kind k{"organ_stiff_side", "deformable"};
+    Kind k;
+    k.name = "organ_stiff_side", k.service = "deformable";
     k.objects =
         "    - {name: organ, kind: deformable, model: hybrid, centre: [0, 0, 0.015], size: 0.03, rounding: 2,\n"
         "       stiff_ratio: 4}\n";
@@ -110,14 +112,16 @@ std::vector<Kind> kinds() {
     out.push_back(k);
   }
   {
-    Kind k{"sheet", "deformable"};
+    Kind k;
+    k.name = "sheet", k.service = "deformable";
     k.objects = "    - {name: sheet, kind: deformable, model: sheet, centre: [0, 0, 0.02], size: 0.04}\n";
     k.script = stroke_script(-0.01, -0.005, 0.02, 0.0037, 0.0063, 0.02);
     k.target = "sheet", k.duration = 7, k.normal = up;
     out.push_back(k);
   }
   {
-    Kind k{"semisphere", "deformable"};
+    Kind k;
+    k.name = "semisphere", k.service = "deformable";
     k.objects = "    - {name: dome, kind: deformable, model: semisphere, centre: [0, 0, 0], size: 0.02}\n";
     // A short stroke over the top (the normal followed as the dome's).
     k.script = stroke_script(-0.01, 0, std::sqrt(0.02 * 0.02 - 0.01 * 0.01), 0.0023, 0.0031, 0.02);
@@ -126,7 +130,8 @@ std::vector<Kind> kinds() {
     out.push_back(k);
   }
   {
-    Kind k{"rigid_cube", "rigid"};
+    Kind k;
+    k.name = "rigid_cube", k.service = "rigid";
     k.objects =
         "    - {name: box, kind: rigid, shape: cube, size: 0.012, mass: 0.05, centre: [0, 0, 0.012]}\n"
         "    - {name: twin, kind: rigid, shape: cube, size: 0.012, mass: 0.05, centre: [0, 0.05, 0.012], "
@@ -143,7 +148,8 @@ std::vector<Kind> kinds() {
   }
   {
     // A resting sphere pressed on its top and held (stroked, it would roll).
-    Kind k{"rigid_sphere", "rigid"};
+    Kind k;
+    k.name = "rigid_sphere", k.service = "rigid";
     k.objects = "    - {name: ball, kind: rigid, shape: sphere, size: 0.012, mass: 0.05, centre: [0, 0, 0.012]}\n";
     k.script =
         "start: [0, 0, 0.034]\nactions:\n"
@@ -158,9 +164,9 @@ std::vector<Kind> kinds() {
   return out;
 }
 
-// Runs `hcosim up` on the kind's deployment, recording, within a limit.
-fs::path run(const Context& c, const Kind& k) {
-  const fs::path dir = c.out / "contact_run" / k.name;
+// Runs `hcosim up` on the kind's deployment, recording, within a limit;
+// false if it ran past it (and was stopped).
+bool run_once(const Context& c, const Kind& k, const fs::path& dir) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   std::ofstream(dir / "user.yaml") << k.script;
@@ -173,19 +179,35 @@ fs::path run(const Context& c, const Kind& k) {
                                      << ", rate: 1000, params: {device: omni}}\n";
   const fs::path rec = dir / "run.rec", log = dir / "up.log";
   const pid_t pid = start_up(dir / "deploy.yaml", dir / "out", log, rec);
-  const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(int(60 + 20 * k.duration));
+  const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(int(40 + 10 * k.duration));
   int status = 0;
   while (waitpid(pid, &status, WNOHANG) == 0) {
     if (std::chrono::steady_clock::now() > limit) {
       kill(pid, SIGTERM);
       waitpid(pid, &status, 0);
-      throw std::runtime_error("contact: " + k.name + " ran past its limit; " + log.string());
+      return false;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
     throw std::runtime_error("contact: hcosim up failed for " + k.name + "; " + log.string());
-  return rec;
+  return true;
+}
+
+// The kind's recording, from a second run if the first stalled: a lockstep
+// run recorded by hcosim up has been seen to stall at one step every 2 s
+// ("outputs not acknowledged by every reader in 2 s"), in about one suite
+// run in two on this machine; the stalled runs are counted in the row.
+fs::path run(const Context& c, const Kind& k, int& stalled) {
+  const fs::path dir = c.out / "contact_run" / k.name;
+  for (int attempt = 0; attempt < 3; ++attempt) fs::remove_all(dir.string() + ".stalled" + std::to_string(attempt));
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    if (run_once(c, k, dir)) return dir / "run.rec";
+    ++stalled;
+    progress("contact: " + k.name + " stalled past its limit (" + (dir / "up.log").string() + "); again");
+    fs::rename(dir, dir.string() + ".stalled" + std::to_string(attempt));
+  }
+  throw std::runtime_error("contact: " + k.name + " stalled three times; " + dir.string() + ".stalled*");
 }
 
 struct Tick {
@@ -300,7 +322,10 @@ std::vector<Row> contact_rows(const Context& c) {
   std::vector<Row> rows;
   for (const Kind& k : kinds()) {
     progress("contact: " + k.name + " in " + k.service + ", " + text(k.duration) + " s in lockstep");
-    rows.push_back(measure(k, read(run(c, k))));
+    int stalled = 0;
+    Row row = measure(k, read(run(c, k, stalled)));
+    row.metrics.push_back({"stalled_runs", double(stalled)});
+    rows.push_back(std::move(row));
   }
   return rows;
 }

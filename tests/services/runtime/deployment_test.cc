@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "services/runtime/deployment.h"
+#include "tests/support/temp_dir.h"
 
 namespace hcosim::services::runtime {
 namespace {
@@ -180,12 +181,8 @@ TEST(Deployment, TheMarkersFrictionIsThePlanesForRigidBodies) {
   const Deployment d = load_deployment(f);
   EXPECT_EQ(adapters::Config(f, d.services[0].params).number("floor_friction", 0, 0, 10), 0.8);
   EXPECT_EQ(adapters::Config(f, d.services[1].params).number("floor_friction", 0, 0, 10), 0.1);
-  std::string e = "no error";
-  try {
-    load_deployment(write_file("bad_plane.yaml", "scene:\n  marker: {friction: -2}\nservices: []\n"));
-  } catch (const ConfigError& x) {
-    e = x.what();
-  }
+  const std::string e = tests::message_of<ConfigError>(
+      [] { load_deployment(write_file("bad_plane.yaml", "scene:\n  marker: {friction: -2}\nservices: []\n")); });
   EXPECT_NE(e.find("bad_plane.yaml:2:"), std::string::npos) << e;
   EXPECT_NE(e.find("'friction' = -2 is outside [0, 10]"), std::string::npos) << e;
 }
@@ -208,13 +205,10 @@ TEST(Deployment, TheDevicesTipRadiusReachesItsContactServices) {
   EXPECT_EQ(tip(2), 0.0015);
   EXPECT_EQ(tip(3), 0.001);
   EXPECT_EQ(tip(4), -1);
-  std::string e = "no error";
-  try {
+  const std::string e = tests::message_of<ConfigError>([] {
     load_deployment(
         write_file("bad_tip.yaml", "services:\n  - {name: omni, kind: haptic, rate: 1000, params: {tip_radius: 1}}\n"));
-  } catch (const ConfigError& x) {
-    e = x.what();
-  }
+  });
   EXPECT_NE(e.find("bad_tip.yaml:2:"), std::string::npos) << e;
   EXPECT_NE(e.find("'tip_radius' = 1 is outside [0, 0.01]"), std::string::npos) << e;
 }
