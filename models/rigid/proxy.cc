@@ -63,12 +63,4 @@ Eigen::Vector3d Proxy::update(const Body& b, double margin, const Eigen::Vector3
   return b.x + R * local_;
 }
 
-Eigen::Vector3d proxy_force(const Eigen::Vector3d& proxy, const Eigen::Vector3d& h, double stiffness,
-                            double max_force) {
-  Eigen::Vector3d f = stiffness * (proxy - h);
-  const double n = f.norm();
-  if (n > max_force) f *= max_force / n;
-  return f;
-}
-
 }  // namespace hcosim::models::rigid

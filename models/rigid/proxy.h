@@ -2,7 +2,7 @@
 // body: a proxy point that stays on the surface (grown by the tip radius)
 // while the device's haptic interface point (HIP) goes inside, moving each
 // tick to the point of its constraint plane nearest the HIP. The device is
-// pulled toward the proxy by a spring. Unlike the nearest surface point,
+// pulled toward the proxy by a spring (coupling.h). Unlike the nearest surface point,
 // the proxy never jumps to the far side of the body when the HIP is pushed
 // past its middle. With friction the proxy sticks to the face until the
 // pull leaves the friction cone, and trails on its rim while slipping
@@ -36,9 +36,5 @@ class Proxy {
   Eigen::Vector3d local_ = Eigen::Vector3d::Zero();  // proxy, body frame
   Eigen::Vector3d last_ = Eigen::Vector3d::Zero();   // last free HIP, world
 };
-
-// The spring force on the device, k (proxy - h), its norm clamped to
-// max_force (N, the device's limit).
-Eigen::Vector3d proxy_force(const Eigen::Vector3d& proxy, const Eigen::Vector3d& h, double stiffness, double max_force);
 
 }  // namespace hcosim::models::rigid

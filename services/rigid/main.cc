@@ -11,7 +11,6 @@
 // same step, then steps the bodies.
 // adapters::Config: docs/rigid.md.
 #include <algorithm>
-#include <atomic>
 #include <cstdio>
 #include <memory>
 #include <vector>
