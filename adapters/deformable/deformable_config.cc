@@ -30,15 +30,18 @@ ObjectConfig object(const Config& o, double servo_dt, double tip_radius) {
     if (tip_radius >= 0.5 * s.size) o.fail("size", "the object must be wider than the stylus tip (tip_radius)");
     return c;
   }
-  o.allow_only({"name", "model", "centre", "size", "resolution", "stiffness", "damping", "prestretch"});
+  o.allow_only({"name", "model", "centre", "size", "resolution", "stiffness", "damping", "prestretch", "bending"});
   models::deformable::SurfaceSpec& s = c.surface;
   s.shape = c.model == "sheet" ? models::deformable::Shape::sheet : models::deformable::Shape::semisphere;
   s.centre = {centre[0], centre[1], centre[2]};
   s.size = o.number("size", s.size, 0.01, 2);
-  s.resolution = o.whole("resolution", s.resolution, 3, 200);
+  // A dome's rings hold 4 x resolution masses at its base: 12 keeps the
+  // default scene's dome at the sheet's cost per tick with its hinges.
+  s.resolution = o.whole("resolution", s.shape == models::deformable::Shape::sheet ? 21 : 12, 3, 200);
   s.material.k = o.number("stiffness", s.material.k, 1e-3, 1e5);
   s.material.b = o.number("damping", s.material.b, 0, 1e3);
   s.prestretch = o.number("prestretch", s.prestretch, 0, 0.4);
+  s.bending = o.number("bending", s.bending, 0, 1);
   s.options.dt = servo_dt;
   s.tip_radius = tip_radius;
   if (tip_radius >= 0.5 * s.size) o.fail("size", "the object must be wider than the stylus tip (tip_radius)");

@@ -1,7 +1,10 @@
 #include "models/deformable/elastic_surface.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
+
+#include "models/massspring/hinge.h"
 
 namespace hcosim::models::deformable {
 
@@ -9,6 +12,51 @@ namespace {
 
 void need(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("elastic surface: " + what);
+}
+
+// A hemisphere of `radius` over z = 0 whose triangles are near-equal:
+// `rings` latitude rings, the base ring first, ring r at polar angle
+// (pi/2)(1 - r/rings) with 4 rings sin(polar) masses (at least 3), then the
+// pole; each strip between rings zipped by azimuth. Equal counts on every
+// ring (a UV sphere) leave slivers at the pole a fifteenth of the base's
+// spacing, whose bending stiffness grows as the inverse fourth power of
+// their width and would need thousands of substeps.
+void dome(int rings, double radius, Eigen::Matrix3Xd& x, std::vector<Eigen::Vector3i>& triangles) {
+  std::vector<int> start(rings + 1, 0);
+  for (int r = 0; r < rings; ++r) {
+    const double polar = M_PI / 2 * (1 - double(r) / rings);
+    start[r + 1] = start[r] + std::max(3, int(std::lround(4 * rings * std::sin(polar))));
+  }
+  const int pole = start[rings];
+  x.resize(3, pole + 1);
+  for (int r = 0; r < rings; ++r) {
+    const double polar = M_PI / 2 * (1 - double(r) / rings);
+    const int count = start[r + 1] - start[r];
+    for (int s = 0; s < count; ++s) {
+      const double az = 2 * M_PI * s / count;
+      x.col(start[r] + s) << radius * std::sin(polar) * std::cos(az), radius * std::sin(polar) * std::sin(az),
+          radius * std::cos(polar);
+    }
+  }
+  x.col(pole) << 0, 0, radius;
+  triangles.clear();
+  for (int r = 0; r < rings; ++r) {
+    const int na = start[r + 1] - start[r];
+    auto a = [&](int i) { return start[r] + i % na; };
+    if (r + 1 == rings) {
+      for (int i = 0; i < na; ++i) triangles.emplace_back(a(i), a(i + 1), pole);
+      break;
+    }
+    const int nb = start[r + 2] - start[r + 1];
+    auto b = [&](int j) { return start[r + 1] + j % nb; };
+    // Counter-clockwise seen from outside: lower ring, along it, upper ring.
+    for (int i = 0, j = 0; i < na || j < nb;) {
+      if (j == nb || (i < na && double(i + 1) / na < double(j + 1) / nb))
+        triangles.emplace_back(a(i), a(i + 1), b(j)), ++i;
+      else
+        triangles.emplace_back(a(i), b(j + 1), b(j)), ++j;
+    }
+  }
 }
 
 }  // namespace
@@ -21,6 +69,7 @@ ElasticSurface::ElasticSurface(const SurfaceSpec& spec) : spec_(spec) {
   need(spec.centre.allFinite(), "centre must be finite");
   need(spec.prestretch >= 0 && spec.prestretch < 0.5, "prestretch must be in [0, 0.5)");
   need(spec.tip_radius >= 0 && spec.tip_radius < 0.5 * spec.size, "tip_radius must be in [0, size / 2)");
+  need(spec.bending >= 0 && std::isfinite(spec.bending), "bending must be finite and >= 0");
   const int n = spec.resolution;
   models::massspring::Lattice l;
   if (spec.shape == Shape::sheet) {
@@ -34,21 +83,15 @@ ElasticSurface::ElasticSurface(const SurfaceSpec& spec) : spec_(spec) {
         triangles_.emplace_back(a, a + n + 1, a + n);
       }
   } else {
-    const int segments = 4 * n;
-    l = models::massspring::make_semisphere(n, segments, spec.size, spec.material);
+    Eigen::Matrix3Xd rest;
+    dome(n, spec.size, rest, triangles_);
+    l = models::massspring::make_shell(rest, triangles_, spec.material);
     l.rest.colwise() += spec.centre;
-    const int pole = n * segments;
-    auto id = [segments](int r, int s) { return r * segments + s % segments; };
-    for (int r = 0; r < n; ++r)
-      for (int s = 0; s < segments; ++s) {
-        if (r + 1 < n) {
-          triangles_.emplace_back(id(r, s), id(r, s + 1), id(r + 1, s + 1));
-          triangles_.emplace_back(id(r, s), id(r + 1, s + 1), id(r + 1, s));
-        } else {
-          triangles_.emplace_back(id(r, s), id(r, s + 1), pole);
-        }
-      }
+    for (int v = 0; v < 4 * n; ++v) l.anchored[v] = 1;  // the base ring
   }
+  if (spec.bending > 0)
+    models::massspring::add_hinges(l, triangles_, spec.bending,
+                                   spec.material.k > 0 ? spec.bending * spec.material.b / spec.material.k : 0);
   sim_ = std::make_unique<models::massspring::Simulator>(std::move(l), spec.options);
   state_ = models::massspring::rest_state(sim_->lattice());
 }

@@ -1,9 +1,9 @@
 // Seed 000's elastic objects (000 §2.2, Fig 7): a plane sheet held in a
-// frame and a semi-sphere on its base ring, pure mass-spring surfaces
-// touched by the stylus at one vertex. The contacted vertex is held at the
-// haptic point; the springs around it pass the deformation on, and their
-// pull on it is the force on the stylus. No S-Chain: the behavior model
-// runs at the servo rate.
+// frame and a semi-sphere on its base ring, mass-spring surfaces with
+// bending hinges (shape memory), touched by the stylus at one vertex. The
+// contacted vertex is held at the haptic point; the springs and hinges
+// around it pass the deformation on, and their pull on it is the force on
+// the stylus. No S-Chain: the behavior model runs at the servo rate.
 #pragma once
 
 #include <memory>
@@ -19,7 +19,7 @@ const char* name(Shape shape);
 
 struct SurfaceSpec {
   Shape shape = Shape::sheet;
-  int resolution = 21;  // sheet: masses per edge; semi-sphere: latitude rings (4 x as many segments)
+  int resolution = 21;  // sheet: masses per edge; semi-sphere: latitude rings (4 x as many masses at its base)
   double size = 0.1;    // m: sheet edge, or semi-sphere radius
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // m, world: sheet centre, or semi-sphere base centre
   models::massspring::Material material{1e-3, 20, 0.02, 0.01};
@@ -27,6 +27,15 @@ struct SurfaceSpec {
   // length in the frame, so it is taut. A slack membrane has no linear
   // stiffness out of its plane: pressed, it creeps back over seconds.
   double prestretch = 0.05;
+  // J, >= 0: the surface's flexural rigidity D, as hinges across its edges
+  // (models/massspring/hinge.h), damped in proportion (material b / k).
+  // A membrane of springs alone has no rest shape out of its plane: a dome
+  // pressed inside out stays so, since inverting it stretches no spring.
+  // 2e-6 J (a rubber skin about 0.3 mm thick) brings the default scene's
+  // dome and sheet back within 0.1 mm of rest within a second of release
+  // while adding at most one substep at the servo rate; the explicit
+  // integrators' stable step falls as 1 / sqrt(D) once bending dominates.
+  double bending = 2e-6;
   // m, >= 0: the stylus tip's; the surface is touched by the tip's sphere,
   // at the HIP less this along the surface's outward normal.
   double tip_radius = 0;

@@ -40,7 +40,9 @@ bool is_explicit(Integrator integrator);
 // the springs, whichever is tighter; and the largest drag rate drag / m.
 // They hold in every configuration where no spring is compressed below
 // half its rest length: a spring's stiffness then never exceeds k in any
-// direction, so K <= L (x) I for the k-weighted graph Laplacian L.
+// direction, so K <= L (x) I for the k-weighted graph Laplacian L. Hinges
+// add their Gauss-Newton stiffness's bound, which holds while no triangle's
+// height falls below half its rest.
 struct Spectrum {
   double omega_max = 0;
   double damping_max = 0;

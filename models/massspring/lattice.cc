@@ -1,8 +1,10 @@
 #include "models/massspring/lattice.h"
 
 #include <cmath>
+#include <set>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace hcosim::models::massspring {
 namespace {
@@ -50,6 +52,19 @@ void check(const Lattice& l) {
     if (sp.i == sp.j) bad(name + " joins a mass to itself");
     if (!(sp.rest >= 0) || !(sp.k >= 0) || !(sp.b >= 0) || !std::isfinite(sp.rest + sp.k + sp.b))
       bad(name + " needs finite rest, k, b >= 0");
+  }
+  for (std::size_t h = 0; h < l.hinges.size(); ++h) {
+    const Hinge& e = l.hinges[h];
+    const std::string name = "hinge " + std::to_string(h) + " (" + std::to_string(e.i) + "-" + std::to_string(e.j) +
+                             ", " + std::to_string(e.k) + ", " + std::to_string(e.l) + ")";
+    const int c[4] = {e.i, e.j, e.k, e.l};
+    for (int a = 0; a < 4; ++a) {
+      if (c[a] < 0 || c[a] >= n) bad(name + " has a corner outside 0.." + std::to_string(n - 1));
+      for (int b = 0; b < a; ++b)
+        if (c[a] == c[b]) bad(name + " repeats a corner");
+    }
+    if (!(std::abs(e.rest) < M_PI) || !(e.k_bend >= 0) || !(e.b >= 0) || !std::isfinite(e.k_bend + e.b))
+      bad(name + " needs a rest angle in (-pi, pi) and finite k_bend, b >= 0");
   }
 }
 
@@ -101,6 +116,23 @@ Lattice make_semisphere(int rings, int segments, double radius, const Material& 
         connect(l, id(r, s), pole, m);
       }
     }
+  return l;
+}
+
+Lattice make_shell(const Eigen::Matrix3Xd& vertices, const std::vector<Eigen::Vector3i>& triangles, const Material& m) {
+  need(vertices.allFinite(), "a shell's vertices must be finite");
+  Lattice l = empty(int(vertices.cols()), m);
+  l.rest = vertices;
+  std::set<std::pair<int, int>> edges;
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    const Eigen::Vector3i& c = triangles[t];
+    for (int q = 0; q < 3; ++q) {
+      if (c[q] < 0 || c[q] >= l.size() || c[q] == c[(q + 1) % 3])
+        bad("shell: triangle " + std::to_string(t) + " has a corner out of range or repeated");
+      edges.emplace(std::min(c[q], c[(q + 1) % 3]), std::max(c[q], c[(q + 1) % 3]));
+    }
+  }
+  for (const auto& [i, j] : edges) connect(l, i, j, m);
   return l;
 }
 

@@ -19,12 +19,27 @@ struct Spring {
   double b = 0;     // N s/m, >= 0
 };
 
+// A bending element across the edge (i, j) shared by the triangles
+// (i, j, k) and (j, i, l) (discrete shells, Grinspun et al. 2003): energy
+// k (theta - rest)^2 / 2 in the signed dihedral angle theta between their
+// normals (models/massspring/hinge.h), and a damper b on its rate. The sign
+// tells a fold one way from the other, so a dome pressed inside out is
+// pushed back; springs across the edge could not tell them apart.
+struct Hinge {
+  int i = 0, j = 0;   // the shared edge
+  int k = 0, l = 0;   // the opposite corners
+  double rest = 0;    // rad, in (-pi, pi)
+  double k_bend = 0;  // N m/rad, >= 0
+  double b = 0;       // N m s/rad, >= 0
+};
+
 // The behavior model's elements. Per-element mass, stiffness and damping may
 // differ (001 Fig 8); builders make them homogeneous.
 struct Lattice {
   Eigen::Matrix3Xd rest;  // m, rest position of each mass
   Eigen::VectorXd mass;   // kg, > 0
   std::vector<Spring> springs;
+  std::vector<Hinge> hinges;
   std::vector<std::uint8_t> anchored;                 // 1: held at its rest position
   double drag = 0;                                    // N s/m per mass: air friction D v_i (000 eq 13)
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  // m/s^2
@@ -42,7 +57,8 @@ struct Material {
 
 // Throws std::invalid_argument naming the first bad element: sizes that
 // disagree, non-finite values, mass <= 0, negative k/b/rest, a spring whose
-// ends are equal or out of range.
+// ends are equal or out of range, a hinge whose corners repeat or are out of
+// range or whose rest angle is outside (-pi, pi).
 void check(const Lattice& lattice);
 
 // nx x ny masses in the z = 0 plane, `spacing` apart, corner at the origin;
@@ -55,6 +71,13 @@ Lattice make_sheet(int nx, int ny, double spacing, const Material& material);
 // masses each plus the pole; springs along the triangulated surface. The
 // base ring is anchored.
 Lattice make_semisphere(int rings, int segments, double radius, const Material& material);
+
+// A surface of springs: a mass at each of `vertices` (m, its rest
+// position) and a spring along every edge of `triangles` (indices into
+// them), nothing anchored. Throws std::invalid_argument for a corner out of
+// range or a triangle that repeats one.
+Lattice make_shell(const Eigen::Matrix3Xd& vertices, const std::vector<Eigen::Vector3i>& triangles,
+                   const Material& material);
 
 // Diagonal layout of shear springs in the box: `one` triangulates each
 // lattice face with a single diagonal, alternating in a checkerboard (a

@@ -1,6 +1,7 @@
 #include "models/massspring/simulator.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -8,6 +9,8 @@
 
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
+
+#include "models/massspring/hinge.h"
 
 namespace hcosim::models::massspring {
 
@@ -33,10 +36,32 @@ struct Adjacency {
   }
 };
 
+// For every mass, the hinges it is a corner of and which corner (0-3).
+struct HingeIndex {
+  std::vector<int> start;   // n + 1 offsets
+  std::vector<int> hinge;   // incident hinge indices, in lattice order
+  std::vector<int> corner;  // the mass's corner in each
+
+  explicit HingeIndex(const Lattice& l) : start(l.size() + 1, 0) {
+    auto corners = [](const Hinge& h) { return std::array<int, 4>{h.i, h.j, h.k, h.l}; };
+    for (const Hinge& h : l.hinges)
+      for (const int c : corners(h)) ++start[c + 1];
+    for (int i = 0; i < l.size(); ++i) start[i + 1] += start[i];
+    hinge.resize(start.back());
+    corner.resize(start.back());
+    std::vector<int> at(start.begin(), start.end() - 1);
+    for (int hi = 0; hi < int(l.hinges.size()); ++hi) {
+      const auto c = corners(l.hinges[hi]);
+      for (int q = 0; q < 4; ++q) hinge[at[c[q]]] = hi, corner[at[c[q]]++] = q;
+    }
+  }
+};
+
 struct Simulator::Impl {
   Lattice lat;
   Options opt;
   Adjacency adj;
+  HingeIndex hinge_index;
   Spectrum spectrum;
   double stable = 0;
   int substeps = 1;
@@ -49,12 +74,15 @@ struct Simulator::Impl {
   // The simulated set, kept up to date as masses activate and retire
   // rather than rebuilt each step: active masses, every free mass within
   // one spring of one (`cover` counts the active masses in its closed
-  // neighbourhood), and the springs with at least one simulated end.
+  // neighbourhood), and the springs (and hinges) with at least one
+  // simulated end (corner).
   std::vector<std::uint8_t> active;
   std::vector<int> cover;
   std::vector<int> masses, slot;          // simulated masses; mass -> index in masses, or -1
   std::vector<int> springs, spring_slot;  // their springs; spring -> index in springs, or -1
   std::vector<std::uint8_t> ends;         // simulated ends of each spring
+  std::vector<int> hinges, hinge_slot;    // as springs and spring_slot
+  std::vector<std::uint8_t> corners;      // simulated corners of each hinge
   std::vector<int> seen_quiet;            // State::quiet as the last step left it
   std::size_t moved = 0;                  // masses that entered or left since the lists were sorted
   std::vector<PointForce> loads;          // this step's loads on simulated masses
@@ -65,6 +93,8 @@ struct Simulator::Impl {
   bool elastic_fresh = false;          // whether the last force pass filled `elastic`
   Eigen::Matrix3Xd spring_force;       // N, per spring, on its first end
   Eigen::VectorXd spring_elastic;      // J, a quarter of each spring's energy
+  Eigen::Matrix3Xd hinge_force;        // N, per hinge, on its corners i, j, k, l (4 columns each)
+  Eigen::VectorXd hinge_elastic;       // J, half of each hinge's energy
 
   // implicit_euler
   Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg;
@@ -76,7 +106,7 @@ struct Simulator::Impl {
   Eigen::MatrixX3d base, rhs, delta;
 
   // lat.anchored is the union of the lattice's anchors and the held masses.
-  Impl(Lattice l, const Options& o) : lat(std::move(l)), opt(o), adj(lat) {
+  Impl(Lattice l, const Options& o) : lat(std::move(l)), opt(o), adj(lat), hinge_index(lat) {
     const int n = lat.size();
     anchored = lat.anchored;
     held.assign(n, 0);
@@ -87,12 +117,17 @@ struct Simulator::Impl {
     slot.assign(n, -1);
     spring_slot.assign(lat.springs.size(), -1);
     ends.assign(lat.springs.size(), 0);
+    hinge_slot.assign(lat.hinges.size(), -1);
+    corners.assign(lat.hinges.size(), 0);
+    hinge_force.setZero(3, 4 * lat.hinges.size());
+    hinge_elastic.setZero(lat.hinges.size());
     for (auto* m : {&f, &x0, &v0, &sx, &sv}) m->setZero(3, n);
     elastic.setZero(n);
     spring_force.setZero(3, lat.springs.size());
     spring_elastic.setZero(lat.springs.size());
     adaptive = opt.threshold > 0;
     for (const Spring& sp : lat.springs) dampers = dampers || sp.b > 0;
+    for (const Hinge& h : lat.hinges) dampers = dampers || h.b > 0;
     if (!adaptive) {
       for (int i = 0; i < n; ++i) enter(i);
       sort_lists();
@@ -117,6 +152,10 @@ struct Simulator::Impl {
       const int si = adj.spring[e];
       if (ends[si]++ == 0) spring_slot[si] = int(springs.size()), springs.push_back(si);
     }
+    for (int e = hinge_index.start[i]; e < hinge_index.start[i + 1]; ++e) {
+      const int hi = hinge_index.hinge[e];
+      if (corners[hi]++ == 0) hinge_slot[hi] = int(hinges.size()), hinges.push_back(hi);
+    }
   }
 
   // A mass that leaves the set stops where it is.
@@ -137,6 +176,13 @@ struct Simulator::Impl {
       const int q = spring_slot[si];
       springs[q] = springs.back(), spring_slot[springs[q]] = q, springs.pop_back();
       spring_slot[si] = -1;
+    }
+    for (int e = hinge_index.start[i]; e < hinge_index.start[i + 1]; ++e) {
+      const int hi = hinge_index.hinge[e];
+      if (--corners[hi] > 0) continue;
+      const int q = hinge_slot[hi];
+      hinges[q] = hinges.back(), hinge_slot[hinges[q]] = q, hinges.pop_back();
+      hinge_slot[hi] = -1;
     }
   }
 
@@ -196,8 +242,10 @@ struct Simulator::Impl {
   void sort_lists() {
     std::sort(masses.begin(), masses.end());
     std::sort(springs.begin(), springs.end());
+    std::sort(hinges.begin(), hinges.end());
     for (int k = 0; k < int(masses.size()); ++k) slot[masses[k]] = k;
     for (int k = 0; k < int(springs.size()); ++k) spring_slot[springs[k]] = k;
+    for (int k = 0; k < int(hinges.size()); ++k) hinge_slot[hinges[k]] = k;
     moved = 0;
   }
 
@@ -205,7 +253,8 @@ struct Simulator::Impl {
   void leave_all() {
     for (const int i : masses) slot[i] = -1;
     for (const int si : springs) spring_slot[si] = -1, ends[si] = 0;
-    masses.clear(), springs.clear();
+    for (const int hi : hinges) hinge_slot[hi] = -1, corners[hi] = 0;
+    masses.clear(), springs.clear(), hinges.clear();
   }
 
   // Energy bookkeeping of the adaptive model after a step: a simulated mass
@@ -231,17 +280,41 @@ struct Simulator::Impl {
     return count;
   }
 
-  // `elastic` from the springs at x, for integrators without a force pass.
+  // `elastic` from the springs and hinges at x, for integrators without a
+  // force pass.
   void spring_energy(const Eigen::Matrix3Xd& x) {
     for (const int si : springs) {
       const Spring& sp = lat.springs[si];
       const double stretch = (x.col(sp.j) - x.col(sp.i)).norm() - sp.rest;
       spring_elastic[si] = 0.25 * sp.k * stretch * stretch;
     }
+    for (const int hi : hinges) hinge_elastic[hi] = 0.5 * bending_energy(lat.hinges[hi], x);
     for (const int i : masses) {
       elastic[i] = 0;
       for (int k = adj.start[i]; k < adj.start[i + 1]; ++k) elastic[i] += spring_elastic[adj.spring[k]];
+      for (int k = hinge_index.start[i]; k < hinge_index.start[i + 1]; ++k)
+        elastic[i] += hinge_elastic[hinge_index.hinge[k]];
     }
+  }
+
+  // Adds the hinges' forces at (x, v) to f for the simulated masses, each
+  // summing its hinges in lattice order (as spring_forces does), and their
+  // energy shares to `elastic` if `energy`.
+  void hinge_forces(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, bool energy) {
+    if (hinges.empty()) return;
+    for (const int hi : hinges) {
+      const Hinge& h = lat.hinges[hi];
+      Eigen::Vector3d fh[4];
+      const double bend = models::massspring::hinge_forces(h, x, v, fh);
+      for (int q = 0; q < 4; ++q) hinge_force.col(4 * hi + q) = fh[q];
+      if (energy) hinge_elastic[hi] = 0.25 * h.k_bend * bend * bend;
+    }
+    for (const int i : masses)
+      for (int k = hinge_index.start[i]; k < hinge_index.start[i + 1]; ++k) {
+        const int hi = hinge_index.hinge[k];
+        f.col(i) += hinge_force.col(4 * hi + hinge_index.corner[k]);
+        if (energy) elastic[i] += hinge_elastic[hi];
+      }
   }
 
   // ---- explicit integrators
@@ -258,6 +331,7 @@ struct Simulator::Impl {
       adaptive ? spring_forces<true, true>(x, v) : spring_forces<true, false>(x, v);
     else
       adaptive ? spring_forces<false, true>(x, v) : spring_forces<false, false>(x, v);
+    hinge_forces(x, v, adaptive);
     elastic_fresh = adaptive;
   }
 
@@ -347,11 +421,11 @@ struct Simulator::Impl {
   int implicit_euler(State& s, double h) {
     const int m = int(masses.size());
     for (const int i : masses) f.col(i).setZero();
-    add_forces(lat, springs, masses, loads, s.x, s.v, f);
-    add_stiffness_times(lat, springs, s.x, s.v, -h, f);
+    add_forces(lat, springs, hinges, masses, loads, s.x, s.v, f);
+    add_stiffness_times(lat, springs, hinges, s.x, s.v, -h, f);
     Eigen::VectorXd b(3 * m);
     for (int k = 0; k < m; ++k) b.segment<3>(3 * k) = h * f.col(masses[k]);
-    const Eigen::SparseMatrix<double> A = implicit_matrix(lat, springs, masses, slot, s.x, h);
+    const Eigen::SparseMatrix<double> A = implicit_matrix(lat, springs, hinges, masses, slot, s.x, h);
     cg.setTolerance(opt.tolerance);
     cg.setMaxIterations(std::max(100, 3 * m));
     cg.compute(A);
@@ -396,17 +470,21 @@ struct Simulator::Impl {
     factored = masses;
   }
 
+  // Hinges are not in the prefactored matrix: their forces at the step's
+  // start join the external ones (explicit), so a stiff hinge limits the
+  // step as it would symplectic_euler's.
   void local_global(State& s, double h) {
     if (factored != masses) factor(h);
     const int m = int(masses.size());
     base.resize(m, 3);
     delta.resize(m, 3);
-    for (const int i : masses) x0.col(i) = s.x.col(i);
+    for (const int i : masses) x0.col(i) = s.x.col(i), f.col(i).setZero();
+    hinge_forces(s.x, s.v, false);
     // Ends outside the set do not move: their x is their start.
     auto start = [&](int i) { return slot[i] >= 0 ? x0.col(i) : s.x.col(i); };
     for (int k = 0; k < m; ++k) {
       const int i = masses[k];
-      Eigen::Vector3d ext = lat.mass[i] * lat.gravity;
+      Eigen::Vector3d ext = lat.mass[i] * lat.gravity + f.col(i);
       for (const PointForce& p : loads)
         if (p.mass == i) ext += p.force;
       base.row(k) = lat.mass[i] * h * s.v.col(i).transpose() + h * h * ext.transpose();
@@ -571,6 +649,11 @@ Eigen::Vector3d Simulator::spring_force(int i, const State& s) const {
     double u[3];
     const double mag = spring_tension(m.lat, m.lat.springs[m.adj.spring[e]], s.x, s.v, u);
     f += m.adj.sign[e] * mag * Eigen::Vector3d(u[0], u[1], u[2]);
+  }
+  for (int e = m.hinge_index.start[i]; e < m.hinge_index.start[i + 1]; ++e) {
+    Eigen::Vector3d fh[4];
+    models::massspring::hinge_forces(m.lat.hinges[m.hinge_index.hinge[e]], s.x, s.v, fh);
+    f += fh[m.hinge_index.corner[e]];
   }
   return f;
 }

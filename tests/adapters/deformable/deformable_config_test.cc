@@ -16,7 +16,8 @@ TEST(DeformableConfig, ReadsEachObjectsSpec) {
       params("device: right\nvisual_rate: 60\ntip_radius: 0.002\nobjects:\n"
              "  - {name: organ, size: 0.06, elements: 5, stiff_ratio: 3, map: trilinear, behavior_rate: 500,"
              " friction: 0.6}\n"
-             "  - {name: skin, model: sheet, size: 0.1, resolution: 12, stiffness: 40, centre: [0, 0, 0.01]}\n"
+             "  - {name: skin, model: sheet, size: 0.1, resolution: 12, stiffness: 40, centre: [0, 0, 0.01],"
+             " bending: 0.001}\n"
              "  - {name: dome, model: semisphere}\n"),
       0.001);
   EXPECT_EQ(d.device, "right");
@@ -37,9 +38,13 @@ TEST(DeformableConfig, ReadsEachObjectsSpec) {
   EXPECT_EQ(s.resolution, 12);
   EXPECT_EQ(s.material.k, 40);
   EXPECT_EQ(s.centre, Eigen::Vector3d(0, 0, 0.01));
+  EXPECT_EQ(s.bending, 0.001);
   EXPECT_EQ(s.options.dt, 0.001);  // a surface steps with the service
   EXPECT_EQ(d.objects[2].surface.shape, models::deformable::Shape::semisphere);
   EXPECT_EQ(d.objects[2].surface.centre, Eigen::Vector3d::Zero());
+  EXPECT_EQ(d.objects[2].surface.resolution, 12);  // a dome's default rings; a sheet's 21 masses per edge
+  EXPECT_EQ(d.objects[2].surface.bending, models::deformable::SurfaceSpec{}.bending);  // shape memory by default
+  EXPECT_GT(d.objects[2].surface.bending, 0);
   for (const ObjectConfig& o : d.objects)  // the stylus's, for every object
     EXPECT_EQ(o.model == "hybrid" ? o.hybrid.tip_radius : o.surface.tip_radius, 0.002) << o.name;
   EXPECT_EQ(deformable_config(params("objects: [{name: a}]\n"), 0.001).objects[0].hybrid.tip_radius, 0);
@@ -73,6 +78,8 @@ TEST(DeformableConfig, MistakesAreNamedAtTheirPlace) {
   EXPECT_EQ(error("objects: [{name: a, elements: 2}]\n"),
             "d.yaml:1:31: 'elements' must be a whole number from 3 to 100, not 2");
   EXPECT_EQ(error("objects: [{model: sheet}]\n"), "d.yaml:1:11: each object needs a name of 1 to 31 characters");
+  EXPECT_EQ(error("objects: [{name: a, model: semisphere, bending: -1}]\n"),
+            "d.yaml:1:49: 'bending' = -1 is outside [0, 1]");
   EXPECT_EQ(error("objects: [{name: a, friction: 11}]\n"), "d.yaml:1:31: 'friction' = 11 is outside [0, 10]");
   EXPECT_EQ(error("tip_radius: 0.008\nobjects: [{name: a, size: 0.015}]\n"),
             "d.yaml:2:27: the object must be wider than the stylus tip (tip_radius)");

@@ -210,9 +210,9 @@ TEST(MassspringAccuracy, HangingSheetMatchesTheLinearSolve) {
     if (!l.anchored[i]) slot[i] = int(masses.size()), masses.push_back(i);
   for (int si = 0; si < int(l.springs.size()); ++si) springs.push_back(si);
   const double h = 1.0;
-  const Eigen::MatrixXd M = Eigen::MatrixXd(implicit_matrix(l, {}, masses, slot, l.rest, 0.0));
-  const Eigen::MatrixXd K = (Eigen::MatrixXd(implicit_matrix(l, springs, masses, slot, l.rest, 2 * h)) -
-                             2 * Eigen::MatrixXd(implicit_matrix(l, springs, masses, slot, l.rest, h)) + M) /
+  const Eigen::MatrixXd M = Eigen::MatrixXd(implicit_matrix(l, {}, {}, masses, slot, l.rest, 0.0));
+  const Eigen::MatrixXd K = (Eigen::MatrixXd(implicit_matrix(l, springs, {}, masses, slot, l.rest, 2 * h)) -
+                             2 * Eigen::MatrixXd(implicit_matrix(l, springs, {}, masses, slot, l.rest, h)) + M) /
                             (2 * h * h);
   const int m = int(masses.size());
   Eigen::MatrixXd Kp(2 * m, 2 * m);
@@ -254,9 +254,9 @@ TEST(MassspringAccuracy, SpectrumBoundIsAboveTheTrueHighestFrequency) {
     std::srand(7);
     for (const double stretch : {0.0, 0.5}) {
       const Eigen::Matrix3Xd x = l.rest + stretch * 0.01 * Eigen::Matrix3Xd::Random(3, l.size());
-      const Eigen::MatrixXd M = Eigen::MatrixXd(implicit_matrix(l, {}, masses, slot, x, 0.0));
-      const Eigen::MatrixXd K = (Eigen::MatrixXd(implicit_matrix(l, springs, masses, slot, x, 2.0)) -
-                                 2 * Eigen::MatrixXd(implicit_matrix(l, springs, masses, slot, x, 1.0)) + M) /
+      const Eigen::MatrixXd M = Eigen::MatrixXd(implicit_matrix(l, {}, {}, masses, slot, x, 0.0));
+      const Eigen::MatrixXd K = (Eigen::MatrixXd(implicit_matrix(l, springs, {}, masses, slot, x, 2.0)) -
+                                 2 * Eigen::MatrixXd(implicit_matrix(l, springs, {}, masses, slot, x, 1.0)) + M) /
                                 2;
       const Eigen::VectorXd r = M.diagonal().cwiseInverse().cwiseSqrt();
       const Eigen::MatrixXd A = r.asDiagonal() * K * r.asDiagonal();
@@ -309,13 +309,13 @@ TEST(MassspringAccuracy, ImplicitMatrixIsTheForceJacobian) {
   for (int i = 0; i < l.size(); ++i) masses.push_back(i), slot.push_back(i);
   for (int si = 0; si < int(l.springs.size()); ++si) springs.push_back(si);
   const double h = 1.0;
-  const Eigen::MatrixXd M = Eigen::MatrixXd(implicit_matrix(l, {}, masses, slot, x, 0.0));
-  const Eigen::MatrixXd A1 = Eigen::MatrixXd(implicit_matrix(l, springs, masses, slot, x, h));
-  const Eigen::MatrixXd A2 = Eigen::MatrixXd(implicit_matrix(l, springs, masses, slot, x, 2 * h));
+  const Eigen::MatrixXd M = Eigen::MatrixXd(implicit_matrix(l, {}, {}, masses, slot, x, 0.0));
+  const Eigen::MatrixXd A1 = Eigen::MatrixXd(implicit_matrix(l, springs, {}, masses, slot, x, h));
+  const Eigen::MatrixXd A2 = Eigen::MatrixXd(implicit_matrix(l, springs, {}, masses, slot, x, 2 * h));
   const Eigen::MatrixXd K = (A2 - 2 * A1 + M) / (2 * h * h), Cd = (A1 - M) / h - h * K;
   auto force = [&](const Eigen::Matrix3Xd& xx, const Eigen::Matrix3Xd& vv) {
     Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, l.size());
-    add_forces(l, springs, {}, {}, xx, vv, f);
+    add_forces(l, springs, {}, {}, {}, xx, vv, f);
     return Eigen::Map<const Eigen::VectorXd>(f.data(), f.size()).eval();
   };
   const double eps = 1e-7;
