@@ -5,8 +5,8 @@
 
 #include <cmath>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "models/massspring/forces.h"
 #include "tests/support/temp_dir.h"
@@ -105,9 +105,9 @@ TEST(MassspringHinge, ImplicitMatrixAtRestIsTheForceJacobian) {
   // K v agrees with the matrix.
   Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Random(3, 4), kv = Eigen::Matrix3Xd::Zero(3, 4);
   add_stiffness_times(l, {}, hinges, l.rest, v, 1.0, kv);
-  EXPECT_LT((Eigen::Map<const Eigen::VectorXd>(kv.data(), 12) - K * Eigen::Map<const Eigen::VectorXd>(v.data(), 12))
-                .norm(),
-            1e-9);
+  EXPECT_LT(
+      (Eigen::Map<const Eigen::VectorXd>(kv.data(), 12) - K * Eigen::Map<const Eigen::VectorXd>(v.data(), 12)).norm(),
+      1e-9);
 }
 
 TEST(MassspringHinge, SheetAndDomeMeshesGetOneHingePerInteriorEdge) {
@@ -147,7 +147,9 @@ TEST(MassspringHinge, BadMeshesAndHingesAreNamed) {
   Lattice l = make_sheet(3, 3, 0.01, {});
   EXPECT_NE(tests::message_of([&] { add_hinges(l, {{0, 1, 9}}, 1, 0); }).find("triangle 0"), std::string::npos);
   EXPECT_NE(tests::message_of([&] { add_hinges(l, {{0, 1, 2}}, 1, 0); }).find("no area"), std::string::npos);
-  EXPECT_NE(tests::message_of([&] { add_hinges(l, {{0, 1, 4}, {0, 1, 3}}, 1, 0); }).find("same way"),
+  EXPECT_NE(tests::message_of([&] {
+              add_hinges(l, {{0, 1, 4}, {0, 1, 3}}, 1, 0);
+            }).find("same way"),
             std::string::npos);
   EXPECT_NE(tests::message_of([&] { add_hinges(l, {{0, 1, 4}}, -1, 0); }).find("rigidity"), std::string::npos);
   l.hinges.push_back({0, 1, 4, 1, 0, 1, 0});
