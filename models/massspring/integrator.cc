@@ -87,19 +87,23 @@ double hinge_bound(const Lattice& l, Weight&& w) {
 
 Spectrum bound_spectrum(const Lattice& l) {
   Spectrum sp;
-  sp.omega_max = std::sqrt(laplacian_bound(l, [](const Spring& s) { return s.k; }) +
-                           hinge_bound(l, [](const Hinge& h) { return h.k_bend; }));
-  sp.damping_max =
-      laplacian_bound(l, [](const Spring& s) { return s.b; }) + hinge_bound(l, [](const Hinge& h) { return h.b; });
+  const double hinge_k = hinge_bound(l, [](const Hinge& h) { return h.k_bend; });
+  sp.hinge_omega_max = std::sqrt(hinge_k);
+  sp.hinge_damping_max = hinge_bound(l, [](const Hinge& h) { return h.b; });
+  sp.omega_max = std::sqrt(laplacian_bound(l, [](const Spring& s) { return s.k; }) + hinge_k);
+  sp.damping_max = laplacian_bound(l, [](const Spring& s) { return s.b; }) + sp.hinge_damping_max;
   for (int i = 0; i < l.size(); ++i)
     if (!l.anchored[i]) sp.drag_max = std::max(sp.drag_max, l.drag / l.mass[i]);
   return sp;
 }
 
 double stable_step(Integrator i, const Spectrum& sp) {
-  if (!is_explicit(i)) return std::numeric_limits<double>::infinity();
+  if (i == Integrator::implicit_euler) return std::numeric_limits<double>::infinity();
+  // local_global: springs implicit, hinges' forces explicit (symplectic).
+  const bool hinges_only = i == Integrator::local_global;
   // symplectic_euler and velocity_verlet integrate drag exactly; rk4 does not.
-  const double c = sp.damping_max + (i == Integrator::rk4 ? sp.drag_max : 0), w = sp.omega_max;
+  const double c = hinges_only ? sp.hinge_damping_max : sp.damping_max + (i == Integrator::rk4 ? sp.drag_max : 0);
+  const double w = hinges_only ? sp.hinge_omega_max : sp.omega_max;
   const double rate = c + std::sqrt(c * c + 4 * w * w);
   if (rate <= 0) return std::numeric_limits<double>::infinity();
   return kStableMargin * (i == Integrator::rk4 ? 5.2 : 4.0) / rate;

@@ -43,10 +43,14 @@ bool is_explicit(Integrator integrator);
 // direction, so K <= L (x) I for the k-weighted graph Laplacian L. Hinges
 // add their Gauss-Newton stiffness's bound, which holds while no triangle's
 // height falls below half its rest.
+// hinge_omega_max and hinge_damping_max bound the hinges' part alone:
+// local_global steps hinges explicitly beside its implicit springs.
 struct Spectrum {
   double omega_max = 0;
   double damping_max = 0;
   double drag_max = 0;
+  double hinge_omega_max = 0;
+  double hinge_damping_max = 0;
 };
 Spectrum bound_spectrum(const Lattice& lattice);
 
@@ -56,7 +60,9 @@ Spectrum bound_spectrum(const Lattice& lattice);
 constexpr double kStableMargin = 0.95;
 
 // Largest step (s) at which `integrator` is stable for `spectrum`, times
-// kStableMargin; +infinity for the implicit ones.
+// kStableMargin; +infinity for implicit_euler, and for local_global on a
+// lattice without hinges (with them, symplectic_euler's limit on the
+// hinges' bounds alone).
 double stable_step(Integrator integrator, const Spectrum& spectrum);
 
 }  // namespace hcosim::models::massspring

@@ -549,13 +549,16 @@ Simulator::Simulator(Lattice lattice, const Options& o) {
     const double need = std::ceil(o.dt / m.stable);
     const std::string why = std::string(name(o.integrator)) + ": dt " + fmt(o.dt) + " s exceeds the stable step " +
                             fmt(m.stable) + " s (omega_max <= " + fmt(m.spectrum.omega_max) +
-                            " rad/s, damping <= " + fmt(m.spectrum.damping_max) + " 1/s)";
+                            " rad/s, damping <= " + fmt(m.spectrum.damping_max) + " 1/s; hinges alone " +
+                            fmt(m.spectrum.hinge_omega_max) + " rad/s, " + fmt(m.spectrum.hinge_damping_max) + " 1/s)";
+    // local_global steps only its hinges explicitly: implicit_euler is what is left.
+    const std::string other =
+        o.integrator == Integrator::local_global ? "use implicit_euler" : "use implicit_euler or local_global";
     if (o.on_unstable == OnUnstable::refuse)
-      throw std::invalid_argument(why + "; substep (" + fmt(need) +
-                                  " substeps), use a smaller dt, or use implicit_euler or local_global");
+      throw std::invalid_argument(why + "; substep (" + fmt(need) + " substeps), use a smaller dt, or " + other);
     if (need > o.max_substeps)
       throw std::invalid_argument(why + "; it needs " + fmt(need) + " substeps, more than max_substeps " +
-                                  std::to_string(o.max_substeps) + "; use implicit_euler or local_global");
+                                  std::to_string(o.max_substeps) + "; " + other);
     m.substeps = int(need);
   }
   m.set_substep(o.dt / m.substeps);
