@@ -33,7 +33,7 @@ int echo(const TopicOptions& o) {
     runtime::install_stop_handlers();
     runtime::Participant p(o.dds.domain, "hcosim_echo", runtime::default_qos_file(), nullptr, false, o.dds.security);
     // No validation: echo shows what is on the wire, bad samples included.
-    runtime::Reader<T> reader(p);
+    runtime::Reader<T> reader(p, nullptr, nullptr, runtime::TopicOf<T>::qos, runtime::kMonitorDepth);
     const std::int64_t deadline = timeout > 0 ? runtime::mono_ns() + std::int64_t(timeout * 1e9) : INT64_MAX;
     std::uint64_t seen = 0;
     while (!runtime::stop_requested() && (count == 0 || seen < count) && runtime::mono_ns() < deadline) {
@@ -61,7 +61,7 @@ int hz(const TopicOptions& o) {
     using T = typename decltype(tag)::type;
     runtime::install_stop_handlers();
     runtime::Participant p(o.dds.domain, "hcosim_hz", runtime::default_qos_file(), nullptr, false, o.dds.security);
-    runtime::Reader<T> reader(p);
+    runtime::Reader<T> reader(p, nullptr, nullptr, runtime::TopicOf<T>::qos, runtime::kMonitorDepth);
     const std::int64_t start = runtime::mono_ns();
     const std::int64_t end = duration > 0 ? start + std::int64_t(duration * 1e9) : INT64_MAX;
     runtime::Window periods_ms(1 << 16);

@@ -52,7 +52,9 @@ int record_trajectory(const RecordOptions& o) {
   csv << "time_s,x,y,z,buttons\n";
   runtime::install_stop_handlers();
   runtime::Participant p(o.dds.domain, "hcosim_record", runtime::default_qos_file(), nullptr, false, o.dds.security);
-  runtime::Reader<HapticState> reader(p, [](const HapticState& s) { return adapters::validate(s); });
+  runtime::Reader<HapticState> reader(
+      p, [](const HapticState& s) { return adapters::validate(s); }, nullptr, runtime::TopicOf<HapticState>::qos,
+      runtime::kMonitorDepth);
   const std::int64_t end = duration > 0 ? runtime::mono_ns() + std::int64_t(duration * 1e9) : INT64_MAX;
   std::uint64_t n = 0;
   double last = -1;

@@ -11,8 +11,6 @@ namespace {
 constexpr char kMagic[8] = {'H', 'C', 'O', 'S', 'R', 'E', 'C', '1'};
 // Large enough for a 1280x720 bgr8 frame; a larger length means a corrupt file.
 constexpr std::uint32_t kMaxRecord = 64u << 20;
-// Samples a recorder's reader keeps per instance while its listener runs.
-constexpr int kRecorderDepth = 256;
 
 template <class U>
 void put(std::string& out, U v) {
@@ -101,7 +99,7 @@ Recorder::Recorder(Participant& p, const std::string& path, const std::vector<st
     using T = typename decltype(tag)::type;
     if (!topics.empty() && std::find(topics.begin(), topics.end(), TopicOf<T>::name) == topics.end()) return;
     // No validation: a recording keeps what was on the wire, bad samples included.
-    auto reader = std::make_shared<Reader<T>>(p, nullptr, nullptr, TopicOf<T>::qos, kRecorderDepth);
+    auto reader = std::make_shared<Reader<T>>(p, nullptr, nullptr, TopicOf<T>::qos, kMonitorDepth);
     auto take = [this, r = reader.get()] {
       r->take([&](const T& s) {
         Record rec = make_record(s, wall_ns());
