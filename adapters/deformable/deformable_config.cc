@@ -14,12 +14,13 @@ ObjectConfig object(const Config& o, double servo_dt, double tip_radius) {
   const auto centre = o.vec3("centre", {0, 0, c.model == "hybrid" ? 0.05 : 0});
   if (c.model == "hybrid") {
     o.allow_only({"name", "model", "centre", "size", "elements", "stiff_ratio", "map", "keep", "behavior_rate",
-                  "visual_subdivisions", "rounding", "friction"});
+                  "visual_subdivisions", "rounding", "friction", "volume"});
     models::deformable::HybridSpec& s = c.hybrid;
     s.centre = {centre[0], centre[1], centre[2]};
     s.size = o.number("size", s.size, 0.01, 2);
     s.elements = o.whole("elements", s.elements, 3, 100);
     s.stiff_ratio = o.number("stiff_ratio", s.stiff_ratio, 1, 100);
+    s.volume = o.number("volume", s.volume, 0, 1000);
     s.map = models::deformable::parse_visual_map(o.text("map", "mvc_sparse", {"mvc", "mvc_sparse", "trilinear"}));
     s.keep = o.number("keep", s.keep, 0.5, 1);
     s.behavior.dt = 1 / o.number("behavior_rate", 1000, 10, 10000);

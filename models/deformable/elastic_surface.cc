@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "models/massspring/hinge.h"
+#include "models/massspring/quartet.h"
 
 namespace hcosim::models::deformable {
 

@@ -28,7 +28,7 @@ struct SurfaceSpec {
   // stiffness out of its plane: pressed, it creeps back over seconds.
   double prestretch = 0.05;
   // J, >= 0: the surface's flexural rigidity D, as hinges across its edges
-  // (models/massspring/hinge.h), damped in proportion (material b / k).
+  // (models/massspring/quartet.h), damped in proportion (material b / k).
   // A membrane of springs alone has no rest shape out of its plane: a dome
   // pressed inside out stays so, since inverting it stretches no spring.
   // 2e-6 J (a rubber skin about 0.3 mm thick) brings the default scene's

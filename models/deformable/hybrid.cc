@@ -5,6 +5,7 @@
 #include <string>
 
 #include "models/deformable/surface.h"
+#include "models/massspring/quartet.h"
 
 namespace hcosim::models::deformable {
 
@@ -45,6 +46,8 @@ void check(const HybridSpec& s) {
   need(s.size > 0 && std::isfinite(s.size), "size must be finite and > 0");
   need(s.centre.allFinite(), "centre must be finite");
   need(s.stiff_ratio >= 1 && s.stiff_ratio <= 100, "stiff_ratio must be in [1, 100]");
+  need(s.volume >= 0 && s.volume <= 1000, "volume must be in [0, 1000]");
+  need(s.volume_floor > 0 && s.volume_floor <= 1, "volume_floor must be in (0, 1]");
   need(s.visual_subdivisions >= 1 && s.visual_subdivisions <= 1000, "visual_subdivisions must be in [1, 1000]");
   need(s.keep > 0 && s.keep <= 1, "keep must be in (0, 1]");
   need(s.visual_tolerance >= 0 && s.visual_tolerance < s.size, "visual_tolerance must be in [0, size)");
@@ -72,6 +75,17 @@ models::massspring::Lattice hybrid_masses(const HybridSpec& s) {
   models::massspring::Lattice l = models::massspring::make_box(n, n, n, s.size / (n - 1), s.material);
   for (models::massspring::Spring& sp : l.springs)
     if (stiff_side(s, l.rest.col(sp.i)) && stiff_side(s, l.rest.col(sp.j))) sp.k *= s.stiff_ratio;
+  if (s.volume > 0) {
+    const double modulus = s.volume * s.material.k / (s.size / (n - 1));
+    const std::size_t first = l.quartets.size();
+    models::massspring::add_volumes(l, models::massspring::box_tetrahedra(n, n, n), modulus, 0, s.volume_floor);
+    for (std::size_t q = first; q < l.quartets.size(); ++q) {
+      models::massspring::Quartet& t = l.quartets[q];
+      if (stiff_side(s, l.rest.col(t.i)) && stiff_side(s, l.rest.col(t.j)) && stiff_side(s, l.rest.col(t.k)) &&
+          stiff_side(s, l.rest.col(t.l)))
+        t.stiffness *= s.stiff_ratio;
+    }
+  }
   for (int i = 0; i < l.size(); ++i) l.anchored[i] = i < n * n;
   l.rest.colwise() += corner(s);
   return l;

@@ -48,6 +48,15 @@ struct HybridSpec {
   // 001 Fig 8: the +x half is `stiff_ratio` times stiffer, in both models
   // (chain K times the ratio and its ranges divided by it; spring k times it).
   double stiff_ratio = 1;
+  // Volume floors under the behavior lattice's tetrahedra (five to a cell,
+  // models/massspring/quartet.h): below `volume_floor` of its rest volume
+  // a tetrahedron resists with a bulk modulus of `volume` times the
+  // springs' k over the lattice spacing (times stiff_ratio on the stiff
+  // side), so that a collapsed or inverted cell comes back and a press does
+  // not punch a mass through the layer below; above the floor the springs
+  // act alone, as 001 §II.A has them. volume 0: no floors.
+  double volume = 10;
+  double volume_floor = 0.5;
   int visual_subdivisions = 30;  // 6 s^2 + 2 vertices, 12 s^2 triangles (30: 5402 and 10800)
   double visual_exponent = 8;    // rounding of the visual box's edges (rounded_box)
   VisualMap map = VisualMap::mvc_sparse;

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "models/massspring/hinge.h"
+#include "models/massspring/quartet.h"
 
 namespace hcosim::models::massspring {
 namespace {
@@ -34,7 +34,7 @@ Eigen::Vector3d spring_direction(const Lattice& l, const Spring& s, const Eigen:
   return rn > kTiny ? Eigen::Vector3d(r / rn) : Eigen::Vector3d::Zero();
 }
 
-void add_forces(const Lattice& l, const std::vector<int>& springs, const std::vector<int>& hinges,
+void add_forces(const Lattice& l, const std::vector<int>& springs, const std::vector<int>& quartets,
                 const std::vector<int>& masses, const std::vector<PointForce>& loads, const Eigen::Matrix3Xd& x,
                 const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd& f) {
   double* F = f.data();
@@ -48,10 +48,10 @@ void add_forces(const Lattice& l, const std::vector<int>& springs, const std::ve
       F[b + c] -= mag * u[c];
     }
   }
-  for (const int hi : hinges) {
-    const Hinge& h = l.hinges[hi];
+  for (const int qi : quartets) {
+    const Quartet& h = l.quartets[qi];
     Eigen::Vector3d fh[4];
-    hinge_forces(h, x, v, fh);
+    quartet_forces(h, x, v, fh);
     f.col(h.i) += fh[0], f.col(h.j) += fh[1], f.col(h.k) += fh[2], f.col(h.l) += fh[3];
   }
   for (const int i : masses) f.col(i) += l.mass[i] * l.gravity - l.drag * v.col(i);
@@ -64,7 +64,7 @@ Energy energy(const Lattice& l, const Eigen::Matrix3Xd& x, const Eigen::Matrix3X
     const double stretch = (x.col(s.j) - x.col(s.i)).norm() - s.rest;
     e.elastic += 0.5 * s.k * stretch * stretch;
   }
-  for (const Hinge& h : l.hinges) e.bending += bending_energy(h, x);
+  for (const Quartet& q : l.quartets) (q.measure == Measure::angle ? e.bending : e.volume) += quartet_energy(q, x);
   for (int i = 0; i < l.size(); ++i) {
     e.kinetic += 0.5 * l.mass[i] * v.col(i).squaredNorm();
     e.gravity -= l.mass[i] * l.gravity.dot(x.col(i) - l.rest.col(i));
@@ -80,10 +80,10 @@ Eigen::Vector3d momentum(const Lattice& l, const Eigen::Matrix3Xd& v) {
 }
 
 Eigen::SparseMatrix<double> implicit_matrix(const Lattice& l, const std::vector<int>& springs,
-                                            const std::vector<int>& hinges, const std::vector<int>& masses,
+                                            const std::vector<int>& quartets, const std::vector<int>& masses,
                                             const std::vector<int>& slot, const Eigen::Matrix3Xd& x, double h) {
   std::vector<Eigen::Triplet<double>> t;
-  t.reserve(masses.size() * 3 + springs.size() * 36 + hinges.size() * 144);
+  t.reserve(masses.size() * 3 + springs.size() * 36 + quartets.size() * 144);
   auto block = [&t](int a, int b, const Eigen::Matrix3d& m) {
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) t.emplace_back(3 * a + r, 3 * b + c, m(r, c));
@@ -100,12 +100,12 @@ Eigen::SparseMatrix<double> implicit_matrix(const Lattice& l, const std::vector<
     if (b >= 0) block(b, b, m);
     if (a >= 0 && b >= 0) block(a, b, -m), block(b, a, -m);
   }
-  for (const int hi : hinges) {
-    const Hinge& e = l.hinges[hi];
+  for (const int qi : quartets) {
+    const Quartet& e = l.quartets[qi];
     Eigen::Vector3d g[4];
-    dihedral(e, x, g);
+    strain(e, x, g);
     const int corner[4] = {slot[e.i], slot[e.j], slot[e.k], slot[e.l]};
-    const double w = h * e.b + h * h * e.k_bend;
+    const double w = h * e.b + h * h * e.stiffness;
     for (int p = 0; p < 4; ++p)
       for (int q = 0; q < 4; ++q)
         if (corner[p] >= 0 && corner[q] >= 0) block(corner[p], corner[q], w * g[p] * g[q].transpose());
@@ -116,7 +116,7 @@ Eigen::SparseMatrix<double> implicit_matrix(const Lattice& l, const std::vector<
   return a;
 }
 
-void add_stiffness_times(const Lattice& l, const std::vector<int>& springs, const std::vector<int>& hinges,
+void add_stiffness_times(const Lattice& l, const std::vector<int>& springs, const std::vector<int>& quartets,
                          const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, double scale, Eigen::Matrix3Xd& out) {
   Eigen::Matrix3d k, c;
   for (const int si : springs) {
@@ -126,14 +126,14 @@ void add_stiffness_times(const Lattice& l, const std::vector<int>& springs, cons
     out.col(s.i) += kv;
     out.col(s.j) -= kv;
   }
-  for (const int hi : hinges) {
-    const Hinge& e = l.hinges[hi];
+  for (const int qi : quartets) {
+    const Quartet& e = l.quartets[qi];
     Eigen::Vector3d g[4];
-    dihedral(e, x, g);
+    strain(e, x, g);
     const int corner[4] = {e.i, e.j, e.k, e.l};
     double gv = 0;
     for (int q = 0; q < 4; ++q) gv += g[q].dot(v.col(corner[q]));
-    for (int q = 0; q < 4; ++q) out.col(corner[q]) += scale * e.k_bend * gv * g[q];
+    for (int q = 0; q < 4; ++q) out.col(corner[q]) += scale * e.stiffness * gv * g[q];
   }
 }
 

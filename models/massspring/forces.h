@@ -53,19 +53,20 @@ inline double spring_tension(const Lattice& lattice, const Spring& s, const Eige
 }
 
 // Adds to f (3 x n, N) the forces of `springs` (indices into
-// lattice.springs) on both their ends and of `hinges` (into lattice.hinges)
-// on their four corners, and for `masses` the drag, gravity and point
+// lattice.springs) on both their ends and of `quartets` (into
+// lattice.quartets) on their four corners, and for `masses` the drag, gravity and point
 // forces. Forces on anchored masses are computed but unused.
-void add_forces(const Lattice& lattice, const std::vector<int>& springs, const std::vector<int>& hinges,
+void add_forces(const Lattice& lattice, const std::vector<int>& springs, const std::vector<int>& quartets,
                 const std::vector<int>& masses, const std::vector<PointForce>& loads, const Eigen::Matrix3Xd& x,
                 const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd& f);
 
 struct Energy {
   double kinetic = 0;  // J
   double elastic = 0;  // J, springs
-  double bending = 0;  // J, hinges
+  double bending = 0;  // J, angle quartets (hinges)
+  double volume = 0;   // J, volume quartets
   double gravity = 0;  // J, relative to the rest configuration: -m g . (x - rest)
-  double total() const { return kinetic + elastic + bending + gravity; }
+  double total() const { return kinetic + elastic + bending + volume + gravity; }
 };
 Energy energy(const Lattice& lattice, const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v);
 
@@ -76,14 +77,14 @@ Eigen::Vector3d momentum(const Lattice& lattice, const Eigen::Matrix3Xd& v);
 // each, in that order; `slot[i]` is mass i's position in `masses` or -1 for
 // a mass held fixed), with K = -df/dx and C = -df/dv at x. The geometric
 // part of K of a compressed spring is dropped so that the matrix stays
-// symmetric positive definite; so is a hinge's curvature term, leaving
-// k_bend g g^T for its angle's gradient g (Gauss-Newton).
+// symmetric positive definite; so is a quartet's curvature term, leaving
+// stiffness g g^T for its measure's gradient g (Gauss-Newton).
 Eigen::SparseMatrix<double> implicit_matrix(const Lattice& lattice, const std::vector<int>& springs,
-                                            const std::vector<int>& hinges, const std::vector<int>& masses,
+                                            const std::vector<int>& quartets, const std::vector<int>& masses,
                                             const std::vector<int>& slot, const Eigen::Matrix3Xd& x, double h);
 
 // K v for the same K (3 x n result), used on the right-hand side.
-void add_stiffness_times(const Lattice& lattice, const std::vector<int>& springs, const std::vector<int>& hinges,
+void add_stiffness_times(const Lattice& lattice, const std::vector<int>& springs, const std::vector<int>& quartets,
                          const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, double scale, Eigen::Matrix3Xd& out);
 
 }  // namespace hcosim::models::massspring

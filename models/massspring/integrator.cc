@@ -4,7 +4,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "models/massspring/hinge.h"
+#include "models/massspring/quartet.h"
 
 namespace hcosim::models::massspring {
 
@@ -65,16 +65,17 @@ double laplacian_bound(const Lattice& l, Weight&& w) {
 }
 
 // Gershgorin's bound on the largest eigenvalue of M^-1 H, H the sum over
-// hinges of w g g^T (g: the angle's gradient at rest, anchored corners
-// left out), blocks w |g_p| |g_q| / sqrt(m_p m_q). A gradient scales as one
-// over a triangle's height: times 4 keeps the bound while heights stay
-// above half their rest.
+// quartets of w g g^T (g: the measure's gradient at rest, anchored corners
+// left out), blocks w |g_p| |g_q| / sqrt(m_p m_q). An angle's gradient
+// scales as one over a triangle's height, a volume's as a face's area:
+// times 4 keeps the bound while heights stay above half their rest and
+// faces below twice their rest area.
 template <class Weight>
-double hinge_bound(const Lattice& l, Weight&& w) {
+double quartet_bound(const Lattice& l, Weight&& w) {
   Eigen::VectorXd row = Eigen::VectorXd::Zero(l.size());
-  for (const Hinge& h : l.hinges) {
+  for (const Quartet& h : l.quartets) {
     Eigen::Vector3d g[4];
-    dihedral(h, l.rest, g);
+    measure(h, l.rest, g);
     const int c[4] = {h.i, h.j, h.k, h.l};
     double scaled[4], sum = 0;
     for (int q = 0; q < 4; ++q) sum += scaled[q] = l.anchored[c[q]] ? 0 : g[q].norm() / std::sqrt(l.mass[c[q]]);
@@ -87,11 +88,11 @@ double hinge_bound(const Lattice& l, Weight&& w) {
 
 Spectrum bound_spectrum(const Lattice& l) {
   Spectrum sp;
-  const double hinge_k = hinge_bound(l, [](const Hinge& h) { return h.k_bend; });
-  sp.hinge_omega_max = std::sqrt(hinge_k);
-  sp.hinge_damping_max = hinge_bound(l, [](const Hinge& h) { return h.b; });
-  sp.omega_max = std::sqrt(laplacian_bound(l, [](const Spring& s) { return s.k; }) + hinge_k);
-  sp.damping_max = laplacian_bound(l, [](const Spring& s) { return s.b; }) + sp.hinge_damping_max;
+  const double quartet_k = quartet_bound(l, [](const Quartet& h) { return h.stiffness; });
+  sp.quartet_omega_max = std::sqrt(quartet_k);
+  sp.quartet_damping_max = quartet_bound(l, [](const Quartet& h) { return h.b; });
+  sp.omega_max = std::sqrt(laplacian_bound(l, [](const Spring& s) { return s.k; }) + quartet_k);
+  sp.damping_max = laplacian_bound(l, [](const Spring& s) { return s.b; }) + sp.quartet_damping_max;
   for (int i = 0; i < l.size(); ++i)
     if (!l.anchored[i]) sp.drag_max = std::max(sp.drag_max, l.drag / l.mass[i]);
   return sp;
@@ -99,11 +100,11 @@ Spectrum bound_spectrum(const Lattice& l) {
 
 double stable_step(Integrator i, const Spectrum& sp) {
   if (i == Integrator::implicit_euler) return std::numeric_limits<double>::infinity();
-  // local_global: springs implicit, hinges' forces explicit (symplectic).
-  const bool hinges_only = i == Integrator::local_global;
+  // local_global: springs implicit, quartets' forces explicit (symplectic).
+  const bool quartets_only = i == Integrator::local_global;
   // symplectic_euler and velocity_verlet integrate drag exactly; rk4 does not.
-  const double c = hinges_only ? sp.hinge_damping_max : sp.damping_max + (i == Integrator::rk4 ? sp.drag_max : 0);
-  const double w = hinges_only ? sp.hinge_omega_max : sp.omega_max;
+  const double c = quartets_only ? sp.quartet_damping_max : sp.damping_max + (i == Integrator::rk4 ? sp.drag_max : 0);
+  const double w = quartets_only ? sp.quartet_omega_max : sp.omega_max;
   const double rate = c + std::sqrt(c * c + 4 * w * w);
   if (rate <= 0) return std::numeric_limits<double>::infinity();
   return kStableMargin * (i == Integrator::rk4 ? 5.2 : 4.0) / rate;

@@ -40,17 +40,18 @@ bool is_explicit(Integrator integrator);
 // the springs, whichever is tighter; and the largest drag rate drag / m.
 // They hold in every configuration where no spring is compressed below
 // half its rest length: a spring's stiffness then never exceeds k in any
-// direction, so K <= L (x) I for the k-weighted graph Laplacian L. Hinges
-// add their Gauss-Newton stiffness's bound, which holds while no triangle's
-// height falls below half its rest.
-// hinge_omega_max and hinge_damping_max bound the hinges' part alone:
-// local_global steps hinges explicitly beside its implicit springs.
+// direction, so K <= L (x) I for the k-weighted graph Laplacian L.
+// Quartets add their Gauss-Newton stiffness's bound, which holds while no
+// hinge's triangle's height falls below half its rest and no tetrahedron's
+// face grows past twice its rest area.
+// quartet_omega_max and quartet_damping_max bound the quartets' part
+// alone: local_global steps quartets explicitly beside its implicit springs.
 struct Spectrum {
   double omega_max = 0;
   double damping_max = 0;
   double drag_max = 0;
-  double hinge_omega_max = 0;
-  double hinge_damping_max = 0;
+  double quartet_omega_max = 0;
+  double quartet_damping_max = 0;
 };
 Spectrum bound_spectrum(const Lattice& lattice);
 
@@ -61,8 +62,8 @@ constexpr double kStableMargin = 0.95;
 
 // Largest step (s) at which `integrator` is stable for `spectrum`, times
 // kStableMargin; +infinity for implicit_euler, and for local_global on a
-// lattice without hinges (with them, symplectic_euler's limit on the
-// hinges' bounds alone).
+// lattice without quartets (with them, symplectic_euler's limit on the
+// quartets' bounds alone).
 double stable_step(Integrator integrator, const Spectrum& spectrum);
 
 }  // namespace hcosim::models::massspring

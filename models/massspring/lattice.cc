@@ -53,18 +53,23 @@ void check(const Lattice& l) {
     if (!(sp.rest >= 0) || !(sp.k >= 0) || !(sp.b >= 0) || !std::isfinite(sp.rest + sp.k + sp.b))
       bad(name + " needs finite rest, k, b >= 0");
   }
-  for (std::size_t h = 0; h < l.hinges.size(); ++h) {
-    const Hinge& e = l.hinges[h];
-    const std::string name = "hinge " + std::to_string(h) + " (" + std::to_string(e.i) + "-" + std::to_string(e.j) +
-                             ", " + std::to_string(e.k) + ", " + std::to_string(e.l) + ")";
+  for (std::size_t h = 0; h < l.quartets.size(); ++h) {
+    const Quartet& e = l.quartets[h];
+    const bool angle = e.measure == Measure::angle;
+    const std::string name = std::string(angle ? "hinge " : "volume ") + std::to_string(h) + " (" +
+                             std::to_string(e.i) + ", " + std::to_string(e.j) + ", " + std::to_string(e.k) + ", " +
+                             std::to_string(e.l) + ")";
     const int c[4] = {e.i, e.j, e.k, e.l};
     for (int a = 0; a < 4; ++a) {
       if (c[a] < 0 || c[a] >= n) bad(name + " has a corner outside 0.." + std::to_string(n - 1));
       for (int b = 0; b < a; ++b)
         if (c[a] == c[b]) bad(name + " repeats a corner");
     }
-    if (!(std::abs(e.rest) < M_PI) || !(e.k_bend >= 0) || !(e.b >= 0) || !std::isfinite(e.k_bend + e.b))
-      bad(name + " needs a rest angle in (-pi, pi) and finite k_bend, b >= 0");
+    if (e.measure != Measure::angle && e.measure != Measure::volume) bad(name + " has an unknown measure");
+    if (!(e.stiffness >= 0) || !(e.b >= 0) || !std::isfinite(e.stiffness + e.b))
+      bad(name + " needs finite stiffness, b >= 0");
+    if (angle && !(std::abs(e.rest) < M_PI)) bad(name + " needs a rest angle in (-pi, pi)");
+    if (!angle && !(e.rest > 0 && std::isfinite(e.rest))) bad(name + " needs a finite rest volume > 0");
   }
 }
 

@@ -19,18 +19,33 @@ struct Spring {
   double b = 0;     // N s/m, >= 0
 };
 
-// A bending element across the edge (i, j) shared by the triangles
-// (i, j, k) and (j, i, l) (discrete shells, Grinspun et al. 2003): energy
-// k (theta - rest)^2 / 2 in the signed dihedral angle theta between their
-// normals (models/massspring/hinge.h), and a damper b on its rate. The sign
-// tells a fold one way from the other, so a dome pressed inside out is
-// pushed back; springs across the edge could not tell them apart.
-struct Hinge {
-  int i = 0, j = 0;   // the shared edge
-  int k = 0, l = 0;   // the opposite corners
-  double rest = 0;    // rad, in (-pi, pi)
-  double k_bend = 0;  // N m/rad, >= 0
-  double b = 0;       // N m s/rad, >= 0
+// What a quartet measures of its four masses.
+enum class Measure : std::uint8_t {
+  // rad, in (-pi, pi]: the signed dihedral angle about the edge (i, j)
+  // from triangle (i, j, k)'s normal to triangle (j, i, l)'s; a bending
+  // hinge (discrete shells, Grinspun et al. 2003). The sign tells a fold
+  // one way from the other, so a dome pressed inside out is pushed back;
+  // springs across the edge could not tell them apart.
+  angle,
+  // m^3: the signed volume of the tetrahedron (i, j, k, l), positive when
+  // l lies on the side that (i, j, k) faces counter-clockwise; a floor,
+  // acting only below its rest. A collapsed or inverted element is pushed
+  // back through zero, which no spring can do (a mirrored element has its
+  // springs' rest lengths), and a press cannot push a mass through the
+  // layer below it; above the floor the springs act alone.
+  volume,
+};
+
+// Four masses tied by one measure m of their positions
+// (models/massspring/quartet.h): energy stiffness (m - rest)^2 / 2 and a
+// damper b on m's rate, so the force on corner c is
+// -(stiffness (m - rest) + b m') dm/dx_c (for a volume, below rest only).
+struct Quartet {
+  int i = 0, j = 0, k = 0, l = 0;
+  double rest = 0;       // rad (angle, in (-pi, pi)) or m^3 (volume, > 0)
+  double stiffness = 0;  // >= 0: N m/rad (angle) or N/m^5 (volume)
+  double b = 0;          // >= 0: N m s/rad (angle) or N s/m^5 (volume)
+  Measure measure = Measure::angle;
 };
 
 // The behavior model's elements. Per-element mass, stiffness and damping may
@@ -39,7 +54,7 @@ struct Lattice {
   Eigen::Matrix3Xd rest;  // m, rest position of each mass
   Eigen::VectorXd mass;   // kg, > 0
   std::vector<Spring> springs;
-  std::vector<Hinge> hinges;
+  std::vector<Quartet> quartets;                      // bending hinges and volume elements
   std::vector<std::uint8_t> anchored;                 // 1: held at its rest position
   double drag = 0;                                    // N s/m per mass: air friction D v_i (000 eq 13)
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  // m/s^2
@@ -57,8 +72,9 @@ struct Material {
 
 // Throws std::invalid_argument naming the first bad element: sizes that
 // disagree, non-finite values, mass <= 0, negative k/b/rest, a spring whose
-// ends are equal or out of range, a hinge whose corners repeat or are out of
-// range or whose rest angle is outside (-pi, pi).
+// ends are equal or out of range, a quartet whose corners repeat or are
+// out of range, a hinge whose rest angle is outside (-pi, pi) or a volume
+// whose rest is not > 0.
 void check(const Lattice& lattice);
 
 // nx x ny masses in the z = 0 plane, `spacing` apart, corner at the origin;

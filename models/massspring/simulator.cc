@@ -10,7 +10,7 @@
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 
-#include "models/massspring/hinge.h"
+#include "models/massspring/quartet.h"
 
 namespace hcosim::models::massspring {
 
@@ -36,23 +36,23 @@ struct Adjacency {
   }
 };
 
-// For every mass, the hinges it is a corner of and which corner (0-3).
-struct HingeIndex {
-  std::vector<int> start;   // n + 1 offsets
-  std::vector<int> hinge;   // incident hinge indices, in lattice order
-  std::vector<int> corner;  // the mass's corner in each
+// For every mass, the quartets it is a corner of and which corner (0-3).
+struct QuartetIndex {
+  std::vector<int> start;    // n + 1 offsets
+  std::vector<int> quartet;  // incident quartet indices, in lattice order
+  std::vector<int> corner;   // the mass's corner in each
 
-  explicit HingeIndex(const Lattice& l) : start(l.size() + 1, 0) {
-    auto corners = [](const Hinge& h) { return std::array<int, 4>{h.i, h.j, h.k, h.l}; };
-    for (const Hinge& h : l.hinges)
+  explicit QuartetIndex(const Lattice& l) : start(l.size() + 1, 0) {
+    auto corners = [](const Quartet& h) { return std::array<int, 4>{h.i, h.j, h.k, h.l}; };
+    for (const Quartet& h : l.quartets)
       for (const int c : corners(h)) ++start[c + 1];
     for (int i = 0; i < l.size(); ++i) start[i + 1] += start[i];
-    hinge.resize(start.back());
+    quartet.resize(start.back());
     corner.resize(start.back());
     std::vector<int> at(start.begin(), start.end() - 1);
-    for (int hi = 0; hi < int(l.hinges.size()); ++hi) {
-      const auto c = corners(l.hinges[hi]);
-      for (int q = 0; q < 4; ++q) hinge[at[c[q]]] = hi, corner[at[c[q]]++] = q;
+    for (int qi = 0; qi < int(l.quartets.size()); ++qi) {
+      const auto c = corners(l.quartets[qi]);
+      for (int q = 0; q < 4; ++q) quartet[at[c[q]]] = qi, corner[at[c[q]]++] = q;
     }
   }
 };
@@ -61,7 +61,7 @@ struct Simulator::Impl {
   Lattice lat;
   Options opt;
   Adjacency adj;
-  HingeIndex hinge_index;
+  QuartetIndex quartet_index;
   Spectrum spectrum;
   double stable = 0;
   int substeps = 1;
@@ -74,27 +74,31 @@ struct Simulator::Impl {
   // The simulated set, kept up to date as masses activate and retire
   // rather than rebuilt each step: active masses, every free mass within
   // one spring of one (`cover` counts the active masses in its closed
-  // neighbourhood), and the springs (and hinges) with at least one
+  // neighbourhood), and the springs (and quartets) with at least one
   // simulated end (corner).
   std::vector<std::uint8_t> active;
   std::vector<int> cover;
-  std::vector<int> masses, slot;          // simulated masses; mass -> index in masses, or -1
-  std::vector<int> springs, spring_slot;  // their springs; spring -> index in springs, or -1
-  std::vector<std::uint8_t> ends;         // simulated ends of each spring
-  std::vector<int> hinges, hinge_slot;    // as springs and spring_slot
-  std::vector<std::uint8_t> corners;      // simulated corners of each hinge
-  std::vector<int> seen_quiet;            // State::quiet as the last step left it
-  std::size_t moved = 0;                  // masses that entered or left since the lists were sorted
-  std::vector<PointForce> loads;          // this step's loads on simulated masses
+  std::vector<int> masses, slot;            // simulated masses; mass -> index in masses, or -1
+  std::vector<int> springs, spring_slot;    // their springs; spring -> index in springs, or -1
+  std::vector<std::uint8_t> ends;           // simulated ends of each spring
+  std::vector<int> quartets, quartet_slot;  // as springs and spring_slot
+  std::vector<std::uint8_t> corners;        // simulated corners of each quartet
+  std::vector<int> seen_quiet;              // State::quiet as the last step left it
+  std::size_t moved = 0;                    // masses that entered or left since the lists were sorted
+  std::vector<PointForce> loads;            // this step's loads on simulated masses
 
   Eigen::Matrix3Xd f, x0, v0, sx, sv;  // scratch, 3 x n; f of masses outside the set is unused
-  Eigen::Matrix3Xd bx, bv;             // the step's starting point, per simulated mass
-  Eigen::VectorXd elastic;             // J, half the elastic energy of each mass's springs
-  bool elastic_fresh = false;          // whether the last force pass filled `elastic`
-  Eigen::Matrix3Xd spring_force;       // N, per spring, on its first end
-  Eigen::VectorXd spring_elastic;      // J, a quarter of each spring's energy
-  Eigen::Matrix3Xd hinge_force;        // N, per hinge, on its corners i, j, k, l (4 columns each)
-  Eigen::VectorXd hinge_elastic;       // J, half of each hinge's energy
+  Eigen::Matrix3Xd bx, bv;             // the step's starting point, per mass of `backed`
+  std::vector<int> backed;             // the masses bx and bv hold (all of them when `whole`)
+  bool whole = false;
+  Eigen::Matrix3Xd ux, uv;          // an implicit substep's starting point, per simulated mass
+  std::vector<int> grown;           // scratch: masses grow() activates
+  Eigen::VectorXd elastic;          // J, half the elastic energy of each mass's springs
+  bool elastic_fresh = false;       // whether the last force pass filled `elastic`
+  Eigen::Matrix3Xd spring_force;    // N, per spring, on its first end
+  Eigen::VectorXd spring_elastic;   // J, a quarter of each spring's energy
+  Eigen::Matrix3Xd quartet_force;   // N, per quartet, on its corners i, j, k, l (4 columns each)
+  Eigen::VectorXd quartet_elastic;  // J, half of each quartet's energy
 
   // implicit_euler
   Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg;
@@ -106,7 +110,7 @@ struct Simulator::Impl {
   Eigen::MatrixX3d base, rhs, delta;
 
   // lat.anchored is the union of the lattice's anchors and the held masses.
-  Impl(Lattice l, const Options& o) : lat(std::move(l)), opt(o), adj(lat), hinge_index(lat) {
+  Impl(Lattice l, const Options& o) : lat(std::move(l)), opt(o), adj(lat), quartet_index(lat) {
     const int n = lat.size();
     anchored = lat.anchored;
     held.assign(n, 0);
@@ -117,17 +121,17 @@ struct Simulator::Impl {
     slot.assign(n, -1);
     spring_slot.assign(lat.springs.size(), -1);
     ends.assign(lat.springs.size(), 0);
-    hinge_slot.assign(lat.hinges.size(), -1);
-    corners.assign(lat.hinges.size(), 0);
-    hinge_force.setZero(3, 4 * lat.hinges.size());
-    hinge_elastic.setZero(lat.hinges.size());
+    quartet_slot.assign(lat.quartets.size(), -1);
+    corners.assign(lat.quartets.size(), 0);
+    quartet_force.setZero(3, 4 * lat.quartets.size());
+    quartet_elastic.setZero(lat.quartets.size());
     for (auto* m : {&f, &x0, &v0, &sx, &sv}) m->setZero(3, n);
     elastic.setZero(n);
     spring_force.setZero(3, lat.springs.size());
     spring_elastic.setZero(lat.springs.size());
     adaptive = opt.threshold > 0;
     for (const Spring& sp : lat.springs) dampers = dampers || sp.b > 0;
-    for (const Hinge& h : lat.hinges) dampers = dampers || h.b > 0;
+    for (const Quartet& h : lat.quartets) dampers = dampers || h.b > 0;
     if (!adaptive) {
       for (int i = 0; i < n; ++i) enter(i);
       sort_lists();
@@ -152,9 +156,9 @@ struct Simulator::Impl {
       const int si = adj.spring[e];
       if (ends[si]++ == 0) spring_slot[si] = int(springs.size()), springs.push_back(si);
     }
-    for (int e = hinge_index.start[i]; e < hinge_index.start[i + 1]; ++e) {
-      const int hi = hinge_index.hinge[e];
-      if (corners[hi]++ == 0) hinge_slot[hi] = int(hinges.size()), hinges.push_back(hi);
+    for (int e = quartet_index.start[i]; e < quartet_index.start[i + 1]; ++e) {
+      const int qi = quartet_index.quartet[e];
+      if (corners[qi]++ == 0) quartet_slot[qi] = int(quartets.size()), quartets.push_back(qi);
     }
   }
 
@@ -177,12 +181,12 @@ struct Simulator::Impl {
       springs[q] = springs.back(), spring_slot[springs[q]] = q, springs.pop_back();
       spring_slot[si] = -1;
     }
-    for (int e = hinge_index.start[i]; e < hinge_index.start[i + 1]; ++e) {
-      const int hi = hinge_index.hinge[e];
-      if (--corners[hi] > 0) continue;
-      const int q = hinge_slot[hi];
-      hinges[q] = hinges.back(), hinge_slot[hinges[q]] = q, hinges.pop_back();
-      hinge_slot[hi] = -1;
+    for (int e = quartet_index.start[i]; e < quartet_index.start[i + 1]; ++e) {
+      const int qi = quartet_index.quartet[e];
+      if (--corners[qi] > 0) continue;
+      const int q = quartet_slot[qi];
+      quartets[q] = quartets.back(), quartet_slot[quartets[q]] = q, quartets.pop_back();
+      quartet_slot[qi] = -1;
     }
   }
 
@@ -242,10 +246,10 @@ struct Simulator::Impl {
   void sort_lists() {
     std::sort(masses.begin(), masses.end());
     std::sort(springs.begin(), springs.end());
-    std::sort(hinges.begin(), hinges.end());
+    std::sort(quartets.begin(), quartets.end());
     for (int k = 0; k < int(masses.size()); ++k) slot[masses[k]] = k;
     for (int k = 0; k < int(springs.size()); ++k) spring_slot[springs[k]] = k;
-    for (int k = 0; k < int(hinges.size()); ++k) hinge_slot[hinges[k]] = k;
+    for (int k = 0; k < int(quartets.size()); ++k) quartet_slot[quartets[k]] = k;
     moved = 0;
   }
 
@@ -253,8 +257,57 @@ struct Simulator::Impl {
   void leave_all() {
     for (const int i : masses) slot[i] = -1;
     for (const int si : springs) spring_slot[si] = -1, ends[si] = 0;
-    for (const int hi : hinges) hinge_slot[hi] = -1, corners[hi] = 0;
-    masses.clear(), springs.clear(), hinges.clear();
+    for (const int qi : quartets) quartet_slot[qi] = -1, corners[qi] = 0;
+    masses.clear(), springs.clear(), quartets.clear();
+  }
+
+  // Backs up what the step changes, restored if it fails: whole matrices
+  // when most masses are simulated, as contiguous copies are faster.
+  void back_up(const State& s) {
+    whole = 2 * masses.size() > std::size_t(lat.size());
+    backed.clear();
+    if (whole) {
+      bx = s.x, bv = s.v;
+      return;
+    }
+    bx.resize(3, masses.size()), bv.resize(3, masses.size());
+    for (const int i : masses) back_up(i, s);
+  }
+  void back_up(int i, const State& s) {
+    if (whole) return;
+    const int k = int(backed.size());
+    if (k >= bx.cols()) bx.conservativeResize(3, 2 * k + 1), bv.conservativeResize(3, 2 * k + 1);
+    bx.col(k) = s.x.col(i), bv.col(k) = s.v.col(i);
+    backed.push_back(i);
+  }
+  void restore(State& s) const {
+    if (whole) {
+      s.x = bx, s.v = bv;
+      return;
+    }
+    for (std::size_t k = 0; k < backed.size(); ++k) s.x.col(backed[k]) = bx.col(k), s.v.col(backed[k]) = bv.col(k);
+  }
+
+  // The adaptive set grows within a step: a simulated mass that is not yet
+  // active but moved in the last substep with kinetic energy above the
+  // threshold is activated, so that its neighbours join the set for the
+  // next substep (or, for an implicit one, for the same substep again).
+  // Without this the set grew one ring per step whatever moved inside it,
+  // and the error against the full model stopped falling with the
+  // threshold. Returns whether the set grew.
+  bool grow(State& s) {
+    grown.clear();
+    for (const int i : masses)
+      if (!active[i] && 0.5 * lat.mass[i] * s.v.col(i).squaredNorm() > opt.threshold) grown.push_back(i);
+    const std::size_t before = masses.size();
+    for (const int i : grown) {
+      s.quiet[i] = seen_quiet[i] = 0;
+      activate(i);
+    }
+    for (std::size_t k = before; k < masses.size(); ++k) back_up(masses[k], s);
+    // The last force pass left the entering springs' energies stale.
+    if (!grown.empty()) elastic_fresh = false;
+    return !grown.empty();
   }
 
   // Energy bookkeeping of the adaptive model after a step: a simulated mass
@@ -280,7 +333,7 @@ struct Simulator::Impl {
     return count;
   }
 
-  // `elastic` from the springs and hinges at x, for integrators without a
+  // `elastic` from the springs and quartets at x, for integrators without a
   // force pass.
   void spring_energy(const Eigen::Matrix3Xd& x) {
     for (const int si : springs) {
@@ -288,32 +341,32 @@ struct Simulator::Impl {
       const double stretch = (x.col(sp.j) - x.col(sp.i)).norm() - sp.rest;
       spring_elastic[si] = 0.25 * sp.k * stretch * stretch;
     }
-    for (const int hi : hinges) hinge_elastic[hi] = 0.5 * bending_energy(lat.hinges[hi], x);
+    for (const int qi : quartets) quartet_elastic[qi] = 0.5 * quartet_energy(lat.quartets[qi], x);
     for (const int i : masses) {
       elastic[i] = 0;
       for (int k = adj.start[i]; k < adj.start[i + 1]; ++k) elastic[i] += spring_elastic[adj.spring[k]];
-      for (int k = hinge_index.start[i]; k < hinge_index.start[i + 1]; ++k)
-        elastic[i] += hinge_elastic[hinge_index.hinge[k]];
+      for (int k = quartet_index.start[i]; k < quartet_index.start[i + 1]; ++k)
+        elastic[i] += quartet_elastic[quartet_index.quartet[k]];
     }
   }
 
-  // Adds the hinges' forces at (x, v) to f for the simulated masses, each
-  // summing its hinges in lattice order (as spring_forces does), and their
+  // Adds the quartets' forces at (x, v) to f for the simulated masses, each
+  // summing its quartets in lattice order (as spring_forces does), and their
   // energy shares to `elastic` if `energy`.
-  void hinge_forces(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, bool energy) {
-    if (hinges.empty()) return;
-    for (const int hi : hinges) {
-      const Hinge& h = lat.hinges[hi];
-      Eigen::Vector3d fh[4];
-      const double bend = models::massspring::hinge_forces(h, x, v, fh);
-      for (int q = 0; q < 4; ++q) hinge_force.col(4 * hi + q) = fh[q];
-      if (energy) hinge_elastic[hi] = 0.25 * h.k_bend * bend * bend;
+  void quartet_forces(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, bool energy) {
+    if (quartets.empty()) return;
+    for (const int qi : quartets) {
+      const Quartet& e = lat.quartets[qi];
+      Eigen::Vector3d fq[4];
+      const double d = models::massspring::quartet_forces(e, x, v, fq);
+      for (int c = 0; c < 4; ++c) quartet_force.col(4 * qi + c) = fq[c];
+      if (energy) quartet_elastic[qi] = 0.25 * e.stiffness * d * d;
     }
     for (const int i : masses)
-      for (int k = hinge_index.start[i]; k < hinge_index.start[i + 1]; ++k) {
-        const int hi = hinge_index.hinge[k];
-        f.col(i) += hinge_force.col(4 * hi + hinge_index.corner[k]);
-        if (energy) elastic[i] += hinge_elastic[hi];
+      for (int k = quartet_index.start[i]; k < quartet_index.start[i + 1]; ++k) {
+        const int qi = quartet_index.quartet[k];
+        f.col(i) += quartet_force.col(4 * qi + quartet_index.corner[k]);
+        if (energy) elastic[i] += quartet_elastic[qi];
       }
   }
 
@@ -331,7 +384,7 @@ struct Simulator::Impl {
       adaptive ? spring_forces<true, true>(x, v) : spring_forces<true, false>(x, v);
     else
       adaptive ? spring_forces<false, true>(x, v) : spring_forces<false, false>(x, v);
-    hinge_forces(x, v, adaptive);
+    quartet_forces(x, v, adaptive);
     elastic_fresh = adaptive;
   }
 
@@ -421,11 +474,11 @@ struct Simulator::Impl {
   int implicit_euler(State& s, double h) {
     const int m = int(masses.size());
     for (const int i : masses) f.col(i).setZero();
-    add_forces(lat, springs, hinges, masses, loads, s.x, s.v, f);
-    add_stiffness_times(lat, springs, hinges, s.x, s.v, -h, f);
+    add_forces(lat, springs, quartets, masses, loads, s.x, s.v, f);
+    add_stiffness_times(lat, springs, quartets, s.x, s.v, -h, f);
     Eigen::VectorXd b(3 * m);
     for (int k = 0; k < m; ++k) b.segment<3>(3 * k) = h * f.col(masses[k]);
-    const Eigen::SparseMatrix<double> A = implicit_matrix(lat, springs, hinges, masses, slot, s.x, h);
+    const Eigen::SparseMatrix<double> A = implicit_matrix(lat, springs, quartets, masses, slot, s.x, h);
     cg.setTolerance(opt.tolerance);
     cg.setMaxIterations(std::max(100, 3 * m));
     cg.compute(A);
@@ -470,8 +523,8 @@ struct Simulator::Impl {
     factored = masses;
   }
 
-  // Hinges are not in the prefactored matrix: their forces at the step's
-  // start join the external ones (explicit), so a stiff hinge limits the
+  // Quartets are not in the prefactored matrix: their forces at the step's
+  // start join the external ones (explicit), so a stiff quartet limits the
   // step as it would symplectic_euler's.
   void local_global(State& s, double h) {
     if (factored != masses) factor(h);
@@ -479,7 +532,7 @@ struct Simulator::Impl {
     base.resize(m, 3);
     delta.resize(m, 3);
     for (const int i : masses) x0.col(i) = s.x.col(i), f.col(i).setZero();
-    hinge_forces(s.x, s.v, false);
+    quartet_forces(s.x, s.v, false);
     // Ends outside the set do not move: their x is their start.
     auto start = [&](int i) { return slot[i] >= 0 ? x0.col(i) : s.x.col(i); };
     for (int k = 0; k < m; ++k) {
@@ -549,9 +602,10 @@ Simulator::Simulator(Lattice lattice, const Options& o) {
     const double need = std::ceil(o.dt / m.stable);
     const std::string why = std::string(name(o.integrator)) + ": dt " + fmt(o.dt) + " s exceeds the stable step " +
                             fmt(m.stable) + " s (omega_max <= " + fmt(m.spectrum.omega_max) +
-                            " rad/s, damping <= " + fmt(m.spectrum.damping_max) + " 1/s; hinges alone " +
-                            fmt(m.spectrum.hinge_omega_max) + " rad/s, " + fmt(m.spectrum.hinge_damping_max) + " 1/s)";
-    // local_global steps only its hinges explicitly: implicit_euler is what is left.
+                            " rad/s, damping <= " + fmt(m.spectrum.damping_max) + " 1/s; quartets alone " +
+                            fmt(m.spectrum.quartet_omega_max) + " rad/s, " + fmt(m.spectrum.quartet_damping_max) +
+                            " 1/s)";
+    // local_global steps only its quartets explicitly: implicit_euler is what is left.
     const std::string other =
         o.integrator == Integrator::local_global ? "use implicit_euler" : "use implicit_euler or local_global";
     if (o.on_unstable == OnUnstable::refuse)
@@ -580,46 +634,51 @@ StepInfo Simulator::step(State& s, const std::vector<PointForce>& loads) {
       throw std::invalid_argument("massspring: non-finite load on mass " + std::to_string(p.mass));
   }
   m.select(s, loads);
-  // Backup of what the step changes, restored if it fails; whole matrices
-  // when most masses are simulated, as contiguous copies are faster.
-  const bool whole = 2 * m.masses.size() > std::size_t(n);
-  Eigen::Matrix3Xd &bx = m.bx, &bv = m.bv;
-  if (whole) {
-    bx = s.x, bv = s.v;
-  } else {
-    bx.resize(3, m.masses.size()), bv.resize(3, m.masses.size());
-    for (std::size_t k = 0; k < m.masses.size(); ++k)
-      bx.col(k) = s.x.col(m.masses[k]), bv.col(k) = s.v.col(m.masses[k]);
-  }
+  m.back_up(s);
   StepInfo info;
   info.substeps = m.substeps;
   const double h = m.opt.dt / m.substeps;
-  for (int k = 0; k < m.substeps; ++k) switch (m.opt.integrator) {
-      case Integrator::symplectic_euler:
-        m.symplectic_euler(s, h);
-        break;
-      case Integrator::velocity_verlet:
-        m.velocity_verlet(s, h);
-        break;
-      case Integrator::rk4:
-        m.rk4(s, h);
-        break;
-      case Integrator::implicit_euler:
-        info.solver_iterations += m.implicit_euler(s, h);
-        break;
-      case Integrator::local_global:
-        m.local_global(s, h);
-        break;
+  const bool implicit = !is_explicit(m.opt.integrator);
+  for (int k = 0; k < m.substeps; ++k) {
+    // An implicit substep moves every simulated mass at once: when the set
+    // grows, it is taken again from its start with the grown set.
+    if (m.adaptive && implicit) {
+      m.ux.resize(3, m.masses.size()), m.uv.resize(3, m.masses.size());
+      for (std::size_t q = 0; q < m.masses.size(); ++q)
+        m.ux.col(q) = s.x.col(m.masses[q]), m.uv.col(q) = s.v.col(m.masses[q]);
     }
-  if (!(whole && s.x.allFinite() && s.v.allFinite()))
+    for (;;) {
+      switch (m.opt.integrator) {
+        case Integrator::symplectic_euler:
+          m.symplectic_euler(s, h);
+          break;
+        case Integrator::velocity_verlet:
+          m.velocity_verlet(s, h);
+          break;
+        case Integrator::rk4:
+          m.rk4(s, h);
+          break;
+        case Integrator::implicit_euler:
+          info.solver_iterations += m.implicit_euler(s, h);
+          break;
+        case Integrator::local_global:
+          m.local_global(s, h);
+          break;
+      }
+      if (!m.adaptive || !s.x.allFinite() || !m.grow(s) || !implicit) break;
+      // Back to the substep's start. grow() only appends to masses, and
+      // the masses it added had not moved: they start where they are.
+      const std::size_t had = std::size_t(m.ux.cols());
+      for (std::size_t q = 0; q < had; ++q) s.x.col(m.masses[q]) = m.ux.col(q), s.v.col(m.masses[q]) = m.uv.col(q);
+      m.ux.conservativeResize(3, m.masses.size()), m.uv.conservativeResize(3, m.masses.size());
+      for (std::size_t q = had; q < m.masses.size(); ++q)
+        m.ux.col(q) = s.x.col(m.masses[q]), m.uv.col(q) = s.v.col(m.masses[q]);
+    }
+  }
+  if (!(m.whole && s.x.allFinite() && s.v.allFinite()))
     for (const int i : m.masses)
       if (!s.x.col(i).allFinite() || !s.v.col(i).allFinite()) {
-        if (whole) {
-          s.x = bx, s.v = bv;
-        } else {
-          for (std::size_t k = 0; k < m.masses.size(); ++k)
-            s.x.col(m.masses[k]) = bx.col(k), s.v.col(m.masses[k]) = bv.col(k);
-        }
+        m.restore(s);
         throw std::runtime_error(std::string("massspring: ") + name(m.opt.integrator) +
                                  " produced a non-finite state at mass " + std::to_string(i) + ", t = " + fmt(s.t) +
                                  " s; the state is left as before the step");
@@ -653,10 +712,10 @@ Eigen::Vector3d Simulator::spring_force(int i, const State& s) const {
     const double mag = spring_tension(m.lat, m.lat.springs[m.adj.spring[e]], s.x, s.v, u);
     f += m.adj.sign[e] * mag * Eigen::Vector3d(u[0], u[1], u[2]);
   }
-  for (int e = m.hinge_index.start[i]; e < m.hinge_index.start[i + 1]; ++e) {
+  for (int e = m.quartet_index.start[i]; e < m.quartet_index.start[i + 1]; ++e) {
     Eigen::Vector3d fh[4];
-    models::massspring::hinge_forces(m.lat.hinges[m.hinge_index.hinge[e]], s.x, s.v, fh);
-    f += fh[m.hinge_index.corner[e]];
+    models::massspring::quartet_forces(m.lat.quartets[m.quartet_index.quartet[e]], s.x, s.v, fh);
+    f += fh[m.quartet_index.corner[e]];
   }
   return f;
 }

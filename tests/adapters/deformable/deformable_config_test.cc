@@ -15,7 +15,7 @@ TEST(DeformableConfig, ReadsEachObjectsSpec) {
   const DeformableConfig d = deformable_config(
       params("device: right\nvisual_rate: 60\ntip_radius: 0.002\nobjects:\n"
              "  - {name: organ, size: 0.06, elements: 5, stiff_ratio: 3, map: trilinear, behavior_rate: 500,"
-             " friction: 0.6}\n"
+             " friction: 0.6, volume: 3}\n"
              "  - {name: skin, model: sheet, size: 0.1, resolution: 12, stiffness: 40, centre: [0, 0, 0.01],"
              " bending: 0.001}\n"
              "  - {name: dome, model: semisphere}\n"),
@@ -28,6 +28,10 @@ TEST(DeformableConfig, ReadsEachObjectsSpec) {
   EXPECT_EQ(h.size, 0.06);
   EXPECT_EQ(h.elements, 5);
   EXPECT_EQ(h.stiff_ratio, 3);
+  EXPECT_EQ(h.volume, 3);
+  EXPECT_EQ(deformable_config(params("objects: [{name: a}]\n"), 0.001).objects[0].hybrid.volume,
+            models::deformable::HybridSpec{}.volume);  // volume floors by default
+  EXPECT_GT(models::deformable::HybridSpec{}.volume, 0);
   EXPECT_EQ(h.map, models::deformable::VisualMap::trilinear);
   EXPECT_DOUBLE_EQ(h.behavior.dt, 0.002);
   EXPECT_EQ(h.centre, Eigen::Vector3d(0, 0, 0.05));  // a hybrid stands on the marker by default
@@ -80,6 +84,7 @@ TEST(DeformableConfig, MistakesAreNamedAtTheirPlace) {
   EXPECT_EQ(error("objects: [{model: sheet}]\n"), "d.yaml:1:11: each object needs a name of 1 to 31 characters");
   EXPECT_EQ(error("objects: [{name: a, model: semisphere, bending: -1}]\n"),
             "d.yaml:1:49: 'bending' = -1 is outside [0, 1]");
+  EXPECT_EQ(error("objects: [{name: a, volume: -1}]\n"), "d.yaml:1:29: 'volume' = -1 is outside [0, 1000]");
   EXPECT_EQ(error("objects: [{name: a, friction: 11}]\n"), "d.yaml:1:31: 'friction' = 11 is outside [0, 10]");
   EXPECT_EQ(error("tip_radius: 0.008\nobjects: [{name: a, size: 0.015}]\n"),
             "d.yaml:2:27: the object must be wider than the stylus tip (tip_radius)");

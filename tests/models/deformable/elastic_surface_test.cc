@@ -9,7 +9,7 @@
 
 #include "models/deformable/elastic_surface.h"
 #include "models/deformable/surface.h"
-#include "models/massspring/hinge.h"
+#include "models/massspring/quartet.h"
 #include "tests/support/integrators.h"
 
 namespace hcosim::models::deformable {
