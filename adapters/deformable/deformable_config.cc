@@ -68,7 +68,8 @@ DeformableConfig deformable_config(const Config& p, double servo_dt) {
 }
 
 std::unique_ptr<models::deformable::Object> make_object(const ObjectConfig& o, const std::string& cache) {
-  if (o.model == "hybrid") return std::make_unique<models::deformable::Hybrid>(o.hybrid, map_cache(cache, o.hybrid));
+  if (o.model == "hybrid")
+    return std::make_unique<models::deformable::Hybrid>(o.hybrid, map_cache(cache, o.hybrid), gain_cache(cache));
   return std::make_unique<models::deformable::ElasticSurface>(o.surface);
 }
 

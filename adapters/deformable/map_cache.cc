@@ -92,7 +92,68 @@ void write(const fs::path& path, models::deformable::Weights w) {
   if (ec) fs::remove(tmp, ec);
 }
 
+constexpr std::uint64_t kGainMagic = 0x31'6e'69'61'67'6f'63'68ULL;  // "hcogain1"
+
+// The gain in `path` if it holds one; else an empty one.
+models::deformable::ForceGain read_gain(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::uint64_t magic = 0;
+  std::int64_t n = 0, stiff = 0;
+  in.read(reinterpret_cast<char*>(&magic), sizeof magic);
+  in.read(reinterpret_cast<char*>(&n), sizeof n);
+  in.read(reinterpret_cast<char*>(&stiff), sizeof stiff);
+  if (!in || magic != kGainMagic || n < 2 || n > 1000 || (stiff != 0 && stiff != 1)) return {};
+  models::deformable::ForceGain g;
+  for (auto* v : {&g.depth, &g.soft, &g.stiff}) {
+    if (v == &g.stiff && !stiff) break;
+    v->resize(std::size_t(n));
+    in.read(reinterpret_cast<char*>(v->data()), std::streamsize(sizeof(double) * v->size()));
+  }
+  if (!in || in.peek() != EOF) return {};
+  return g;
+}
+
+void write_gain(const fs::path& path, const models::deformable::ForceGain& g) {
+  const fs::path tmp = path.string() + "." + std::to_string(::getpid()) + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    const std::int64_t header[2] = {std::int64_t(g.depth.size()), g.stiff.empty() ? 0 : 1};
+    out.write(reinterpret_cast<const char*>(&kGainMagic), sizeof kGainMagic);
+    out.write(reinterpret_cast<const char*>(header), sizeof header);
+    for (const auto* v : {&g.depth, &g.soft, &g.stiff})
+      out.write(reinterpret_cast<const char*>(v->data()), std::streamsize(sizeof(double) * v->size()));
+    if (!out) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      return;
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) fs::remove(tmp, ec);
+}
+
 }  // namespace
+
+models::deformable::GainSource gain_cache(const std::string& dir) {
+  return [dir](const models::deformable::HybridSpec& s) {
+    Hash h;
+    for (const double v : {double(s.elements), s.size, s.chain.stiffness, s.chain.stretch, s.chain.compress,
+                           s.chain.shear, s.relax_rate, s.limit_stiffness, s.material.mass, s.material.k, s.material.b,
+                           s.material.drag, s.volume, s.volume_floor, s.stiff_ratio})
+      h.value(v);
+    char name[40];
+    std::snprintf(name, sizeof name, "gain-%016llx.bin", static_cast<unsigned long long>(h.h));
+    const fs::path path = fs::path(dir) / name;
+    models::deformable::ForceGain g = read_gain(path);
+    if (!g.depth.empty()) return g;
+    g = models::deformable::force_gain(s);
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    write_gain(path, g);
+    return g;
+  };
+}
 
 models::deformable::MapSource map_cache(const std::string& dir, const models::deformable::HybridSpec& spec) {
   return [dir, spec](const Eigen::Matrix3Xd& cage, const std::vector<Eigen::Vector3i>& triangles,

@@ -1,6 +1,6 @@
-// A folder of visual maps (models::deformable::mvc_map) kept between runs: a
-// restarted deformable service reads its hybrid objects' maps instead of
-// computing them again (about a second each at seed scale, where the
+// A folder of visual maps (models::deformable::mvc_map) and force gains
+// kept between runs: a restarted deformable service reads its hybrid
+// objects' maps and gains instead of computing them again (about a second each at seed scale, where the
 // restart should take well under 2 s; docs/deformable.md).
 #pragma once
 
@@ -17,5 +17,10 @@ namespace hcosim::adapters::deformable {
 // renamed). A file that cannot be read as a map of the right shape is
 // computed again and replaced. `dir` is made if missing.
 models::deformable::MapSource map_cache(const std::string& dir, const models::deformable::HybridSpec& spec);
+
+// A GainSource that keeps models::deformable::force_gain (about a second
+// for the default cube) in DIR/gain-KEY.bin the same way, KEY a hash of
+// every spec field it reads.
+models::deformable::GainSource gain_cache(const std::string& dir);
 
 }  // namespace hcosim::adapters::deformable

@@ -1,6 +1,10 @@
 #include "models/deformable/hybrid.h"
 
+#include <algorithm>
 #include <cmath>
+#include <map>
+#include <mutex>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -91,24 +95,88 @@ models::massspring::Lattice hybrid_masses(const HybridSpec& s) {
   return l;
 }
 
-Eigen::Vector3d behavior_static_force(const HybridSpec& spec, int mass, const Eigen::Vector3d& displacement) {
+namespace {
+
+// Settles `s` with `mass` held where it is: implicit Euler at 1 s, each
+// step close to a Newton step towards rest (a 10 cm cube settles in 9 to
+// 26 of them), until the holder's force changes by under `tolerance` of
+// itself.
+Eigen::Vector3d settle(models::massspring::Simulator& sim, models::massspring::State& s, int mass, double tolerance) {
+  Eigen::Vector3d last = Eigen::Vector3d::Constant(1e300);
+  for (int k = 0; k < 1000; ++k) {
+    sim.step(s, {});
+    const Eigen::Vector3d f = sim.spring_force(mass, s);
+    if ((f - last).norm() <= tolerance * f.norm()) break;
+    last = f;
+  }
+  return sim.spring_force(mass, s);
+}
+
+models::massspring::Options static_options(double tolerance) {
   models::massspring::Options o;
   o.integrator = models::massspring::Integrator::implicit_euler;
-  o.dt = 0.01;  // s: 40 steps of several times the slowest period, each damping it
-  models::massspring::Simulator sim(hybrid_masses(spec), o);
+  o.dt = 1;
+  o.tolerance = tolerance;
+  return o;
+}
+
+}  // namespace
+
+Eigen::Vector3d behavior_static_force(const HybridSpec& spec, int mass, const Eigen::Vector3d& displacement) {
+  models::massspring::Simulator sim(hybrid_masses(spec), static_options(1e-8));
   models::massspring::State s = models::massspring::rest_state(sim.lattice());
   need(mass >= 0 && mass < sim.lattice().size(), "no mass " + std::to_string(mass));
   need(displacement.allFinite(), "the displacement must be finite");
   s.x.col(mass) += displacement;
   sim.hold(mass, true);
-  Eigen::Vector3d last = Eigen::Vector3d::Constant(1e300);
-  for (int k = 0; k < 1000; ++k) {
-    sim.step(s, {});
-    const Eigen::Vector3d f = sim.spring_force(mass, s);
-    if ((f - last).norm() <= 1e-9 * f.norm()) break;
-    last = f;
+  return settle(sim, s, mass, 1e-9);
+}
+
+double ForceGain::at(double d, bool stiff_side) const {
+  const std::vector<double>& g = stiff_side && !stiff.empty() ? stiff : soft;
+  if (d <= depth.front()) return g.front();
+  if (d >= depth.back()) return g.back();
+  const std::size_t k = std::size_t(std::upper_bound(depth.begin(), depth.end(), d) - depth.begin());
+  const double w = (d - depth[k - 1]) / (depth[k] - depth[k - 1]);
+  return (1 - w) * g[k - 1] + w * g[k];
+}
+
+ForceGain force_gain(const HybridSpec& spec) {
+  check(spec);
+  const int n = spec.elements;
+  ForceGain gain;
+  // Closer where the S-Chain's growth is steepest: a stiff side's short
+  // ranges move a new ring of chains every few tenths of a millimetre.
+  for (const double f : {0.02, 0.03, 0.04, 0.06, 0.08, 0.1,  0.12, 0.14, 0.16, 0.2, 0.24,
+                         0.28, 0.32, 0.4,  0.48, 0.56, 0.64, 0.72, 0.8,  0.88, 1.0})
+    gain.depth.push_back(0.25 * spec.size * f);
+  // The top element in the middle of each side's half (of the whole top
+  // when both sides are one), pressed down in turn to every depth.
+  auto side = [&](int i) {
+    const int e = i + n * (n / 2 + n * (n - 1));
+    models::massspring::Simulator sim(hybrid_masses(spec), static_options(1e-5));
+    models::massspring::State s = models::massspring::rest_state(sim.lattice());
+    sim.hold(e, true);
+    std::vector<double> g;
+    for (const double d : gain.depth) {
+      s.x.col(e) = sim.lattice().rest.col(e) - Eigen::Vector3d(0, 0, d);
+      const double behavior = settle(sim, s, e, 1e-3).z();
+      // The S-Chain as a stylus presses it: down over 100 ticks, held 200.
+      SChain chain(hybrid_chains(spec), spec.relax_rate, spec.limit_stiffness);
+      const Eigen::Vector3d rest = chain.lattice().rest(e);
+      for (int k = 0; k < 300; ++k)
+        chain.tick(1e-3, e, rest - Eigen::Vector3d(0, 0, d * std::min(1.0, (k + 1) / 100.0)));
+      g.push_back(behavior / chain.force().z());
+    }
+    return g;
+  };
+  if (spec.stiff_ratio == 1) {
+    gain.soft = side(n / 2);
+  } else {
+    gain.soft = side(n / 4);
+    gain.stiff = side(n - 1 - n / 4);
   }
-  return sim.spring_force(mass, s);
+  return gain;
 }
 
 Weights mvc_map(const HybridSpec& spec, const Eigen::Matrix3Xd& cage, const std::vector<Eigen::Vector3i>& triangles,
@@ -117,8 +185,35 @@ Weights mvc_map(const HybridSpec& spec, const Eigen::Matrix3Xd& cage, const std:
   return spec.map == VisualMap::mvc_sparse ? truncate(w, spec.keep) : w;
 }
 
-Hybrid::Hybrid(const HybridSpec& spec, const MapSource& map)
+namespace {
+
+// force_gain, once per process for each spec that shapes it: tests and
+// benches build many hybrids of one spec.
+ForceGain remembered_gain(const HybridSpec& s) {
+  std::ostringstream o;
+  o << std::hexfloat << s.elements << ' ' << s.size << ' ' << s.chain.stiffness << ' ' << s.chain.stretch << ' '
+    << s.chain.compress << ' ' << s.chain.shear << ' ' << s.relax_rate << ' ' << s.limit_stiffness << ' '
+    << s.material.mass << ' ' << s.material.k << ' ' << s.material.b << ' ' << s.material.drag << ' ' << s.volume << ' '
+    << s.volume_floor << ' ' << s.stiff_ratio;
+  static std::mutex m;
+  static std::map<std::string, ForceGain> seen;
+  {
+    const std::lock_guard<std::mutex> l(m);
+    if (const auto it = seen.find(o.str()); it != seen.end()) return it->second;
+  }
+  ForceGain g = force_gain(s);
+  const std::lock_guard<std::mutex> l(m);
+  return seen.emplace(o.str(), std::move(g)).first->second;
+}
+
+}  // namespace
+
+Hybrid::Hybrid(const HybridSpec& spec, const MapSource& map, const GainSource& gain)
     : spec_(spec), chains_(hybrid_chains(spec), spec.relax_rate, spec.limit_stiffness), cone_(spec.friction) {
+  gain_ = gain ? gain(spec) : remembered_gain(spec);
+  const std::size_t k = gain_.depth.size();
+  need(k >= 2 && gain_.soft.size() == k && (gain_.stiff.empty() || gain_.stiff.size() == k),
+       "the force gain needs two or more depths and a gain at each");
   masses_ = std::make_unique<models::massspring::Simulator>(hybrid_masses(spec), spec.behavior);
   state_ = models::massspring::rest_state(masses_->lattice());
   lo_ = corner(spec), hi_ = lo_ + Eigen::Vector3d::Constant(spec.size);
@@ -181,7 +276,11 @@ Touch Hybrid::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
   // The chain element nearest the proxy, moved by the HIP's offset from it.
   const int e = chains_.nearest_surface(p);
   chains_.tick(dt, e, chains_.lattice().rest(e) + offset);
-  Eigen::Vector3d force = chains_.force();
+  // The chains' force at the behavior model's stiffness for that press
+  // (the offset, not how far the chains let the element go: a stiff side's
+  // short ranges stop it against the anchors, and the rest is a wall).
+  const bool stiff = chains_.lattice().material[e].stiffness > spec_.chain.stiffness;
+  Eigen::Vector3d force = gain_.at(offset.norm(), stiff) * chains_.force();
   const SurfacePoint at = contact_;  // where this tick's force acts
   if (!grab && force.dot(n) <= 0) {
     force.setZero();  // chains that do not push do not pull either

@@ -82,6 +82,25 @@ models::massspring::Lattice hybrid_masses(const HybridSpec& spec);
 // press the S-Chain renders, which force_vs_behavior compares with it.
 Eigen::Vector3d behavior_static_force(const HybridSpec& spec, int mass, const Eigen::Vector3d& displacement);
 
+// The felt force's gain over the press's depth (the HIP's distance from
+// the proxy; issue 26 item 4): the behavior model's static force over the
+// S-Chain's for the same press down at the top, at 21 depths from 2 % to
+// all of a quarter of the cube's size (0.5 to 25 mm at 10 cm), on the soft
+// side and, with a stiff_ratio, on the stiff side. An S-Chain moves more
+// chains the deeper it is pressed, and its force grows far faster than the
+// lattice's (bench hybrid, force_vs_behavior rows: ten times it at 25 mm
+// with the ranges fitted on 1 to 5 mm).
+struct ForceGain {
+  std::vector<double> depth;        // m, increasing
+  std::vector<double> soft, stiff;  // behavior over S-Chain at each depth
+  // Linear between the samples, the end ones beyond them.
+  double at(double depth, bool stiff_side) const;
+};
+// Takes seconds: the behavior model settles at every depth, pressed in
+// turn (implicit Euler to rest), on each side.
+ForceGain force_gain(const HybridSpec& spec);
+using GainSource = std::function<ForceGain(const HybridSpec&)>;
+
 // The visual map of mean value weights (truncated for mvc_sparse) from the
 // cage's rest positions (3 x n), its triangles and the visual rest points
 // (3 x m): the slow part of building a Hybrid (about a second at seed
@@ -95,7 +114,9 @@ class Hybrid final : public Object {
  public:
   // `map`, if given, stands in for mvc_map (for example a cache of it);
   // it must return points x cage weights. Ignored for the trilinear map.
-  explicit Hybrid(const HybridSpec& spec, const MapSource& map = {});
+  // `gain`, if given, stands in for force_gain (computed once per process
+  // for each spec otherwise).
+  explicit Hybrid(const HybridSpec& spec, const MapSource& map = {}, const GainSource& gain = {});
 
   // The HIP touches where its path crosses the visual rest surface from
   // outside, or, for the first HIP seen, at the surface's nearest point if
@@ -103,8 +124,9 @@ class Hybrid final : public Object {
   // that surface, sliding over it as friction lets it, until the HIP is
   // back outside its tangent plane (or, with `grab`, until grab ends: then
   // it sticks and may pull). The S-Chain element nearest the proxy is moved
-  // by the HIP's offset from the proxy; the chains' force is the force on
-  // the stylus, kept inside the friction cone.
+  // by the HIP's offset from the proxy; the chains' force times the force
+  // gain at that offset's length is the force on the stylus, kept inside
+  // the friction cone.
   Touch touch(double dt, const Eigen::Vector3d& hip, bool grab) override;
   double behavior_dt() const override { return spec_.behavior.dt; }
   // couple(): the behavior model's loads for its next step, the opposite of
@@ -131,6 +153,7 @@ class Hybrid final : public Object {
   const models::massspring::State& state() const { return state_; }
   const models::massspring::TriangleMesh& visual_rest() const { return visual_; }
   const Weights& map() const { return weights_; }
+  const ForceGain& gain() const { return gain_; }
   const std::vector<int>& cage_masses() const { return cage_; }  // masses the map reads, in its column order
   int simulated() const { return simulated_; }                   // masses the last behavior step integrated
   // The proxy's material point on the visual mesh (face -1: no contact),
@@ -145,6 +168,7 @@ class Hybrid final : public Object {
  private:
   HybridSpec spec_;
   SChain chains_;
+  ForceGain gain_;
   std::unique_ptr<models::massspring::Simulator> masses_;
   models::massspring::State state_;
   models::massspring::TriangleMesh visual_;

@@ -121,11 +121,13 @@ TEST(Hybrid, StifferSidePushesBackHarderInBothModels) {  // 001 Fig 8
   HybridSpec s = quick();
   s.stiff_ratio = 4;
   Hybrid soft(s), hard(s);
+  // The middle of each half's top, where the drawn surface is as far
+  // below the lattice's top on both sides.
   const double f_soft = press(soft, top(s, -3), 0.004).force.z();
-  const double f_hard = press(hard, top(s, 3), 0.004).force.z();
+  const double f_hard = press(hard, top(s, 2), 0.004).force.z();
   EXPECT_GT(f_hard, 2 * f_soft);
   const Eigen::Vector3d down(0, 0, -0.004);
-  EXPECT_GT(behavior_static_force(s, top(s, 3), down).z(), 2 * behavior_static_force(s, top(s, -3), down).z());
+  EXPECT_GT(behavior_static_force(s, top(s, 2), down).z(), 2 * behavior_static_force(s, top(s, -3), down).z());
 }
 
 // Pressed at the top's centre past one lattice spacing (11 mm), the
@@ -149,15 +151,34 @@ TEST(Hybrid, TheBehaviorModelDoesNotSnapThroughPastOneCell) {
   EXPECT_LT(behavior_static_force(s, top(s), 0.014 * down).z(), behavior_static_force(s, top(s), 0.012 * down).z());
 }
 
-// The S-Chain's K and ranges are fitted to the behavior model (hybrid.h):
-// over 1 to 5 mm the two static forces agree within 15 %.
-TEST(Hybrid, ChainForceAgreesWithTheBehaviorModel) {
-  const HybridSpec s = quick();
-  for (double depth = 0.001; depth <= 0.0051; depth += 0.001) {
-    Hybrid h(s);
-    const double chain = press(h, top(s), depth).force.z();
-    const double behavior = behavior_static_force(s, top(s), Eigen::Vector3d(0, 0, -depth)).z();
-    EXPECT_NEAR(chain / behavior, 1, 0.15) << "depth " << depth << ": chain " << chain << " N, behavior " << behavior;
+// The force felt agrees with the shape seen (issue 26 item 4): pressed
+// from 0.5 mm to a quarter of its size below the drawn surface, on the
+// soft and the stiff side, the hybrid's force is within 15 % of the
+// behavior model's static force at that depth. Its S-Chain alone, fitted on
+// 1 to 5 mm, pushes ten times harder at 25 mm (bench hybrid,
+// force_vs_behavior).
+TEST(Hybrid, ForceFeltAgreesWithTheBehaviorModelToAQuarterOfItsSize) {
+  HybridSpec s = quick();
+  s.stiff_ratio = 4;
+  const int n = s.elements;
+  for (const int dx : {n / 4 - n / 2, n - 1 - n / 4 - n / 2}) {  // the middle of each half's top
+    for (const double depth : {0.0005, 0.00075, 0.0015, 0.0035, 0.007, 0.011, 0.015, 0.019, 0.023, 0.025}) {
+      Hybrid h(s);
+      // Down to the drawn surface, which the rounding puts below the
+      // lattice's top near the edges, then `depth` under it.
+      const Eigen::Vector3d r = h.haptic().lattice().rest(top(s, dx));
+      Touch t;
+      double z = r.z() + 0.001;
+      while (!(t = h.touch(1e-3, Eigen::Vector3d(r.x(), r.y(), z), false)).in_contact) h.advance(), z -= 1e-5;
+      const double surface = h.proxy().z();
+      for (int k = 0; k < 300; ++k) {
+        t = h.touch(1e-3, Eigen::Vector3d(r.x(), r.y(), surface - depth * std::min(1.0, (k + 1) / 100.0)), false);
+        h.advance();
+      }
+      const double behavior = behavior_static_force(s, top(s, dx), Eigen::Vector3d(0, 0, -depth)).z();
+      EXPECT_NEAR(t.force.z() / behavior, 1, 0.15) << (dx > 0 ? "stiff" : "soft") << " side, depth " << depth
+                                                   << ": felt " << t.force.z() << " N, behavior " << behavior;
+    }
   }
 }
 
