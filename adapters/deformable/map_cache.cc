@@ -138,10 +138,7 @@ void write_gain(const fs::path& path, const models::deformable::ForceGain& g) {
 models::deformable::GainSource gain_cache(const std::string& dir) {
   return [dir](const models::deformable::HybridSpec& s) {
     Hash h;
-    for (const double v : {double(s.elements), s.size, s.chain.stiffness, s.chain.stretch, s.chain.compress,
-                           s.chain.shear, s.relax_rate, s.limit_stiffness, s.material.mass, s.material.k, s.material.b,
-                           s.material.drag, s.volume, s.volume_floor, s.stiff_ratio})
-      h.value(v);
+    for (const double v : models::deformable::gain_inputs(s)) h.value(v);
     char name[40];
     std::snprintf(name, sizeof name, "gain-%016llx.bin", static_cast<unsigned long long>(h.h));
     const fs::path path = fs::path(dir) / name;

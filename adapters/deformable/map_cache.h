@@ -18,9 +18,9 @@ namespace hcosim::adapters::deformable {
 // computed again and replaced. `dir` is made if missing.
 models::deformable::MapSource map_cache(const std::string& dir, const models::deformable::HybridSpec& spec);
 
-// A GainSource that keeps models::deformable::force_gain (about a second
-// for the default cube) in DIR/gain-KEY.bin the same way, KEY a hash of
-// every spec field it reads.
+// A GainSource that keeps models::deformable::force_gain (seconds to
+// compute) in DIR/gain-KEY.bin the same way, KEY a hash of
+// gain_inputs(spec).
 models::deformable::GainSource gain_cache(const std::string& dir);
 
 }  // namespace hcosim::adapters::deformable

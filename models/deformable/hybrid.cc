@@ -98,9 +98,8 @@ models::massspring::Lattice hybrid_masses(const HybridSpec& s) {
 namespace {
 
 // Settles `s` with `mass` held where it is: implicit Euler at 1 s, each
-// step close to a Newton step towards rest (a 10 cm cube settles in 9 to
-// 26 of them), until the holder's force changes by under `tolerance` of
-// itself.
+// step close to a Newton step towards rest, until the holder's force
+// changes by under `tolerance` of itself.
 Eigen::Vector3d settle(models::massspring::Simulator& sim, models::massspring::State& s, int mass, double tolerance) {
   Eigen::Vector3d last = Eigen::Vector3d::Constant(1e300);
   for (int k = 0; k < 1000; ++k) {
@@ -130,6 +129,12 @@ Eigen::Vector3d behavior_static_force(const HybridSpec& spec, int mass, const Ei
   s.x.col(mass) += displacement;
   sim.hold(mass, true);
   return settle(sim, s, mass, 1e-9);
+}
+
+std::vector<double> gain_inputs(const HybridSpec& s) {
+  return {double(s.elements), s.size,          s.chain.stiffness, s.chain.stretch, s.chain.compress,
+          s.chain.shear,      s.relax_rate,    s.limit_stiffness, s.material.mass, s.material.k,
+          s.material.b,       s.material.drag, s.volume,          s.volume_floor,  s.stiff_ratio};
 }
 
 double ForceGain::at(double d, bool stiff_side) const {
@@ -191,10 +196,8 @@ namespace {
 // benches build many hybrids of one spec.
 ForceGain remembered_gain(const HybridSpec& s) {
   std::ostringstream o;
-  o << std::hexfloat << s.elements << ' ' << s.size << ' ' << s.chain.stiffness << ' ' << s.chain.stretch << ' '
-    << s.chain.compress << ' ' << s.chain.shear << ' ' << s.relax_rate << ' ' << s.limit_stiffness << ' '
-    << s.material.mass << ' ' << s.material.k << ' ' << s.material.b << ' ' << s.material.drag << ' ' << s.volume << ' '
-    << s.volume_floor << ' ' << s.stiff_ratio;
+  o << std::hexfloat;
+  for (const double v : gain_inputs(s)) o << v << ' ';
   static std::mutex m;
   static std::map<std::string, ForceGain> seen;
   {

@@ -99,6 +99,8 @@ struct ForceGain {
 // Takes seconds: the behavior model settles at every depth, pressed in
 // turn (implicit Euler to rest), on each side.
 ForceGain force_gain(const HybridSpec& spec);
+// The spec's fields force_gain reads, in a fixed order: a cache's key.
+std::vector<double> gain_inputs(const HybridSpec& spec);
 using GainSource = std::function<ForceGain(const HybridSpec&)>;
 
 // The visual map of mean value weights (truncated for mvc_sparse) from the
