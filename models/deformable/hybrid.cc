@@ -132,9 +132,10 @@ Eigen::Vector3d behavior_static_force(const HybridSpec& spec, int mass, const Ei
 }
 
 std::vector<double> gain_inputs(const HybridSpec& s) {
-  return {double(s.elements), s.size,          s.chain.stiffness, s.chain.stretch, s.chain.compress,
-          s.chain.shear,      s.relax_rate,    s.limit_stiffness, s.material.mass, s.material.k,
-          s.material.b,       s.material.drag, s.volume,          s.volume_floor,  s.stiff_ratio};
+  return {double(kForceGainVersion), double(s.elements), s.size,         s.chain.stiffness,
+          s.chain.stretch,           s.chain.compress,   s.chain.shear,  s.relax_rate,
+          s.limit_stiffness,         s.material.mass,    s.material.k,   s.material.b,
+          s.material.drag,           s.volume,           s.volume_floor, s.stiff_ratio};
 }
 
 double ForceGain::at(double d, bool stiff_side) const {
@@ -320,7 +321,10 @@ void Hybrid::couple() {
   }
 }
 
-void Hybrid::integrate() { simulated_ = masses_->step(state_, loads_).simulated; }
+void Hybrid::integrate() {
+  const models::massspring::StepInfo info = masses_->step(state_, loads_);
+  simulated_ = info.simulated, substeps_ = info.substeps;
+}
 
 Eigen::Matrix3Xd Hybrid::cage() const {
   const models::massspring::Lattice& lat = masses_->lattice();

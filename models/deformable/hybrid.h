@@ -99,8 +99,12 @@ struct ForceGain {
 // Takes seconds: the behavior model settles at every depth, pressed in
 // turn (implicit Euler to rest), on each side.
 ForceGain force_gain(const HybridSpec& spec);
-// The spec's fields force_gain reads, in a fixed order: a cache's key.
+// The spec's fields force_gain reads, in a fixed order, after
+// kForceGainVersion: a cache's key.
 std::vector<double> gain_inputs(const HybridSpec& spec);
+// Raised whenever force_gain computes differently from the same spec, so
+// that gains kept on disk by an older build are computed again.
+constexpr int kForceGainVersion = 1;
 using GainSource = std::function<ForceGain(const HybridSpec&)>;
 
 // The visual map of mean value weights (truncated for mvc_sparse) from the
@@ -158,6 +162,7 @@ class Hybrid final : public Object {
   const ForceGain& gain() const { return gain_; }
   const std::vector<int>& cage_masses() const { return cage_; }  // masses the map reads, in its column order
   int simulated() const { return simulated_; }                   // masses the last behavior step integrated
+  int substeps() const { return substeps_; }                     // substeps the last behavior step took
   // The proxy's material point on the visual mesh (face -1: no contact),
   // and where it is on the rest surface grown by the tip's radius (the
   // tip's centre).
@@ -191,6 +196,7 @@ class Hybrid final : public Object {
   int load_ticks_ = 0;                                 // touches summed
   std::vector<models::massspring::PointForce> loads_;  // the next behavior step's
   int simulated_ = 0;
+  int substeps_ = 0;
 };
 
 }  // namespace hcosim::models::deformable

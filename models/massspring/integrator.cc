@@ -64,38 +64,58 @@ double laplacian_bound(const Lattice& l, Weight&& w) {
   return std::min(by_mass, by_spring);
 }
 
+}  // namespace
+
 // Gershgorin's bound on the largest eigenvalue of M^-1 H, H the sum over
 // quartets of w g g^T (g: the measure's gradient at rest, anchored corners
 // left out), blocks w |g_p| |g_q| / sqrt(m_p m_q). An angle's gradient
 // scales as one over a triangle's height, a volume's as a face's area:
 // times 4 keeps the bound while heights stay above half their rest and
 // faces below twice their rest area.
-template <class Weight>
-double quartet_bound(const Lattice& l, Weight&& w) {
-  Eigen::VectorXd row = Eigen::VectorXd::Zero(l.size());
-  for (const Quartet& h : l.quartets) {
-    Eigen::Vector3d g[4];
-    measure(h, l.rest, g);
-    const int c[4] = {h.i, h.j, h.k, h.l};
-    double scaled[4], sum = 0;
-    for (int q = 0; q < 4; ++q) sum += scaled[q] = l.anchored[c[q]] ? 0 : g[q].norm() / std::sqrt(l.mass[c[q]]);
-    for (int q = 0; q < 4; ++q) row[c[q]] += 4 * w(h) * scaled[q] * sum;
+QuartetShare quartet_share(const Lattice& l, const Quartet& h) {
+  Eigen::Vector3d g[4];
+  measure(h, l.rest, g);
+  const int c[4] = {h.i, h.j, h.k, h.l};
+  double scaled[4], sum = 0;
+  for (int q = 0; q < 4; ++q) sum += scaled[q] = l.anchored[c[q]] ? 0 : g[q].norm() / std::sqrt(l.mass[c[q]]);
+  QuartetShare share;
+  for (int q = 0; q < 4; ++q) {
+    share.k[q] = 4 * h.stiffness * scaled[q] * sum;
+    share.b[q] = 4 * h.b * scaled[q] * sum;
   }
-  return row.size() ? row.maxCoeff() : 0.0;
+  return share;
 }
 
-}  // namespace
+SpectrumParts spectrum_parts(const Lattice& l, const std::vector<std::uint8_t>& counted) {
+  SpectrumParts p;
+  p.spring_k = laplacian_bound(l, [](const Spring& s) { return s.k; });
+  p.spring_b = laplacian_bound(l, [](const Spring& s) { return s.b; });
+  for (int i = 0; i < l.size(); ++i)
+    if (!l.anchored[i]) p.drag_max = std::max(p.drag_max, l.drag / l.mass[i]);
+  p.quartet_k = p.quartet_b = Eigen::VectorXd::Zero(l.size());
+  for (std::size_t q = 0; q < l.quartets.size(); ++q) {
+    if (!counted[q]) continue;
+    const Quartet& h = l.quartets[q];
+    const QuartetShare share = quartet_share(l, h);
+    const int c[4] = {h.i, h.j, h.k, h.l};
+    for (int k = 0; k < 4; ++k) p.quartet_k[c[k]] += share.k[k], p.quartet_b[c[k]] += share.b[k];
+  }
+  return p;
+}
+
+Spectrum SpectrumParts::spectrum() const {
+  Spectrum sp;
+  const double qk = quartet_k.size() ? quartet_k.maxCoeff() : 0.0;
+  sp.quartet_omega_max = std::sqrt(qk);
+  sp.quartet_damping_max = quartet_b.size() ? quartet_b.maxCoeff() : 0.0;
+  sp.omega_max = std::sqrt(spring_k + qk);
+  sp.damping_max = spring_b + sp.quartet_damping_max;
+  sp.drag_max = drag_max;
+  return sp;
+}
 
 Spectrum bound_spectrum(const Lattice& l) {
-  Spectrum sp;
-  const double quartet_k = quartet_bound(l, [](const Quartet& h) { return h.stiffness; });
-  sp.quartet_omega_max = std::sqrt(quartet_k);
-  sp.quartet_damping_max = quartet_bound(l, [](const Quartet& h) { return h.b; });
-  sp.omega_max = std::sqrt(laplacian_bound(l, [](const Spring& s) { return s.k; }) + quartet_k);
-  sp.damping_max = laplacian_bound(l, [](const Spring& s) { return s.b; }) + sp.quartet_damping_max;
-  for (int i = 0; i < l.size(); ++i)
-    if (!l.anchored[i]) sp.drag_max = std::max(sp.drag_max, l.drag / l.mass[i]);
-  return sp;
+  return spectrum_parts(l, std::vector<std::uint8_t>(l.quartets.size(), 1)).spectrum();
 }
 
 double stable_step(Integrator i, const Spectrum& sp) {

@@ -21,7 +21,11 @@
 // symplectic_euler and velocity_verlet (exact for the former), 5.2 for rk4.
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <vector>
+
+#include <Eigen/Core>
 
 #include "models/massspring/lattice.h"
 
@@ -54,6 +58,29 @@ struct Spectrum {
   double quartet_damping_max = 0;
 };
 Spectrum bound_spectrum(const Lattice& lattice);
+
+// bound_spectrum in parts, for a simulator that counts a quartet only
+// while it can act (a volume floor near its rest, simulator.cc): the
+// springs' and the drag's bounds, and the Gershgorin rows of the counted
+// quartets, one per mass ((rad/s)^2 for the stiffness, 1/s for the
+// damping). A quartet's share of the rows is quartet_share's.
+struct SpectrumParts {
+  double spring_k = 0;  // (rad/s)^2
+  double spring_b = 0;  // 1/s
+  double drag_max = 0;  // 1/s
+  Eigen::VectorXd quartet_k, quartet_b;
+  // The spectrum these parts bound.
+  Spectrum spectrum() const;
+};
+// `counted` has one flag per quartet of the lattice.
+SpectrumParts spectrum_parts(const Lattice& lattice, const std::vector<std::uint8_t>& counted);
+
+// Quartet q's share of SpectrumParts' rows at its corners i, j, k, l.
+struct QuartetShare {
+  double k[4] = {0, 0, 0, 0};
+  double b[4] = {0, 0, 0, 0};
+};
+QuartetShare quartet_share(const Lattice& lattice, const Quartet& quartet);
 
 // Fraction of the stability limit that stable_step allows. The bounds are
 // already above the true spectrum; the margin keeps the highest mode's

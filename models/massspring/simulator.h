@@ -47,7 +47,7 @@ struct State {
 State rest_state(const Lattice& lattice);
 
 struct StepInfo {
-  int substeps = 1;           // explicit integrators: steps of dt / substeps
+  int substeps = 1;           // explicit integrators: steps of dt / substeps this step took
   int simulated = 0;          // masses integrated (active ones and their neighbours)
   int active = 0;             // masses above threshold after the step
   int solver_iterations = 0;  // implicit_euler: CG iterations, summed over substeps
@@ -83,9 +83,12 @@ class Simulator {
 
   const Lattice& lattice() const;  // its anchors include the held masses
   const Options& options() const;
+  // With every quartet counted: a step counts each volume floor only
+  // while the state brings it near its floor (docs/massspring.md, "Volume
+  // floors"), so it takes at most substeps() substeps (StepInfo::substeps).
   const Spectrum& spectrum() const;
   double stable_step() const;  // s; +infinity for implicit integrators
-  int substeps() const;        // per step of dt
+  int substeps() const;        // per step of dt, at most
 
  private:
   struct Impl;

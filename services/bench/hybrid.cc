@@ -75,6 +75,7 @@ Row pipeline_row(const std::string& scale) {
   const double build_ms = us_since(b0) * 1e-3;
   const Eigen::Vector3d top = s.centre + Eigen::Vector3d(0.002, 0.001, 0.5 * s.size);
   std::vector<double> haptic, behavior, visual;
+  int substeps = 0;
   DeformedMesh mesh;
   for (int k = 0; k < 1500; ++k) {
     // 8 mm in over 0.5 s, held 0.5 s, out over 0.25 s, then free.
@@ -85,6 +86,7 @@ Row pipeline_row(const std::string& scale) {
     const auto t1 = Clock::now();
     h.advance();
     behavior.push_back(us_since(t1));
+    substeps = std::max(substeps, h.substeps());
     if (k % 33 == 0) {
       // What the service's visual worker does, short of writing the sample.
       const auto t2 = Clock::now();
@@ -103,7 +105,10 @@ Row pipeline_row(const std::string& scale) {
            {"map", std::string(name(s.map))}},
           {{"haptic_p50_us", quantile(haptic, 0.5)},
            {"haptic_p99_us", quantile(haptic, 0.99)},
+           {"behavior_p50_us", quantile(behavior, 0.5)},
            {"behavior_p99_us", quantile(behavior, 0.99)},
+           {"behavior_substeps_most", double(substeps)},
+           {"behavior_substeps_bound", double(h.behavior().substeps())},
            {"visual_frame_ms", quantile(visual, 0.5)},
            {"visual_frame_p99_ms", quantile(visual, 0.99)},
            {"build_ms", build_ms}}};
@@ -255,7 +260,9 @@ Suite hybrid_suite() {
       {"pipeline",
        "The whole model as the service runs it over a press, hold and release: haptic tick and behavior step at "
        "1 kHz, a visual frame every 33 ticks; `seed` is 001 Fig 7's scale, `100x` a hundred times more (trilinear "
-       "map: dense mean value weights of that size do not fit in memory); build_ms includes the map's weights."},
+       "map: dense mean value weights of that size do not fit in memory); build_ms includes the map's weights; "
+       "behavior_substeps_most is the most substeps one behavior step took (its volume floors count only "
+       "while pressed near them), behavior_substeps_bound what every step would take with all of them counted."},
       {"visual_map",
        "Each visual map on a known smooth deformation (a press dent and a bend) of the cage: time for the whole "
        "map (median) against the RMS distance of mapped vertices from the deformation's own, over the RMS "
