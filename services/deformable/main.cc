@@ -11,6 +11,7 @@
 // docs/deformable.md.
 #include <condition_variable>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -138,7 +139,10 @@ int run(const Options& options) {
   const adapters::deformable::DeformableConfig config = adapters::deformable::deformable_config(svc.params(), servo_dt);
   const std::string& device = config.device;
   const double visual_period = 1 / config.visual_rate_hz;
-  const std::string cache = svc.options().out + "/cache";
+  // HCOSIM_CACHE lets several runs share one folder of maps and gains
+  // (the integration tests do); writes are whole files, renamed into place.
+  const char* shared = std::getenv("HCOSIM_CACHE");
+  const std::string cache = shared && *shared ? shared : svc.options().out + "/cache";
   std::vector<Item> items;
   for (const adapters::deformable::ObjectConfig& o : config.objects) {
     if (o.model == "hybrid") {

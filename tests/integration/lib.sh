@@ -6,6 +6,10 @@ BIN=$1
 export HCOSIM_SERVICE_PATH=$2
 DOMAIN=$3
 export HCOSIM_DOMAIN=$DOMAIN
+# One folder of hybrid objects' visual maps and force gains for every test
+# of this build (HCOSIM_CACHE, services/deformable): the first test to need
+# one computes it, the others read it, as a user's second run does.
+export HCOSIM_CACHE=${HCOSIM_CACHE:-$(dirname "$BIN")/test-cache}
 WORK=$(mktemp -d /tmp/hcosim_it.XXXXXX)
 PIDS=()
 
