@@ -45,6 +45,14 @@ VisualMap parse_visual_map(const std::string& s) {
   throw std::invalid_argument("unknown visual map '" + s + "': one of mvc, mvc_sparse, trilinear");
 }
 
+const char* name(BehaviorModel m) { return m == BehaviorModel::fem ? "fem" : "springs"; }
+
+BehaviorModel parse_behavior_model(const std::string& s) {
+  for (BehaviorModel m : {BehaviorModel::springs, BehaviorModel::fem})
+    if (s == name(m)) return m;
+  throw std::invalid_argument("unknown behavior model '" + s + "': one of springs, fem");
+}
+
 void check(const HybridSpec& s) {
   need(s.elements >= 3 && s.elements <= 100, "elements must be in [3, 100] per edge");
   need(s.size > 0 && std::isfinite(s.size), "size must be finite and > 0");
@@ -95,47 +103,98 @@ models::massspring::Lattice hybrid_masses(const HybridSpec& s) {
   return l;
 }
 
+models::fem::Mesh hybrid_mesh(const HybridSpec& s) {
+  check(s);
+  const int n = s.elements;
+  models::fem::Mesh m = models::fem::box_mesh(n, n, n, s.size / (n - 1));
+  m.scale.assign(m.tets.size(), 1);
+  for (std::size_t t = 0; t < m.tets.size(); ++t) {
+    bool stiff = true;
+    for (const int c : m.tets[t]) stiff = stiff && stiff_side(s, m.rest.col(c));
+    if (stiff) m.scale[t] = s.stiff_ratio;
+  }
+  for (int i = 0; i < m.size(); ++i) m.anchored[i] = i < n * n;
+  m.rest.colwise() += corner(s);
+  return m;
+}
+
 namespace {
 
-// Settles `s` with `mass` held where it is: implicit Euler at 1 s, each
-// step close to a Newton step towards rest, until the holder's force
-// changes by under `tolerance` of itself.
-Eigen::Vector3d settle(models::massspring::Simulator& sim, models::massspring::State& s, int mass, double tolerance) {
-  Eigen::Vector3d last = Eigen::Vector3d::Constant(1e300);
-  for (int k = 0; k < 1000; ++k) {
-    sim.step(s, {});
-    const Eigen::Vector3d f = sim.spring_force(mass, s);
-    if ((f - last).norm() <= tolerance * f.norm()) break;
-    last = f;
+// The behavior model of a spec with one mass held where it is put and the
+// rest settled to rest around it: implicit Euler at 1 s steps, each close
+// to a Newton step towards rest (CG to `tolerance`).
+class Held {
+ public:
+  Held(const HybridSpec& spec, int mass, double tolerance) : mass_(mass) {
+    if (spec.behavior_model == BehaviorModel::fem) {
+      models::fem::Options o;
+      o.dt = 1, o.tolerance = tolerance;
+      fem_ = std::make_unique<models::fem::Corotational>(hybrid_mesh(spec), spec.fem, o);
+      state_ = models::fem::rest_state(fem_->mesh());
+    } else {
+      models::massspring::Options o;
+      o.integrator = models::massspring::Integrator::implicit_euler;
+      o.dt = 1, o.tolerance = tolerance;
+      springs_ = std::make_unique<models::massspring::Simulator>(hybrid_masses(spec), o);
+      state_ = models::massspring::rest_state(springs_->lattice());
+    }
+    need(mass >= 0 && mass < state_.x.cols(), "no mass " + std::to_string(mass));
+    fem_ ? fem_->hold(mass, true) : springs_->hold(mass, true);
   }
-  return sim.spring_force(mass, s);
-}
+  const Eigen::Matrix3Xd& rest() const { return fem_ ? fem_->mesh().rest : springs_->lattice().rest; }
+  // Puts the held mass at x and settles the rest until the holder's force
+  // changes by under `change` of itself; returns that force (N).
+  Eigen::Vector3d settle(const Eigen::Vector3d& x, double change) {
+    state_.x.col(mass_) = x;
+    Eigen::Vector3d last = Eigen::Vector3d::Constant(1e300);
+    for (int k = 0; k < 1000; ++k) {
+      fem_ ? void(fem_->step(state_, {})) : void(springs_->step(state_, {}));
+      const Eigen::Vector3d f = force();
+      if ((f - last).norm() <= change * f.norm()) break;
+      last = f;
+    }
+    return force();
+  }
 
-models::massspring::Options static_options(double tolerance) {
-  models::massspring::Options o;
-  o.integrator = models::massspring::Integrator::implicit_euler;
-  o.dt = 1;
-  o.tolerance = tolerance;
-  return o;
-}
+ private:
+  Eigen::Vector3d force() const { return fem_ ? fem_->force_on(mass_, state_) : springs_->spring_force(mass_, state_); }
+  int mass_;
+  std::unique_ptr<models::massspring::Simulator> springs_;
+  std::unique_ptr<models::fem::Corotational> fem_;
+  models::massspring::State state_;
+};
 
 }  // namespace
 
 Eigen::Vector3d behavior_static_force(const HybridSpec& spec, int mass, const Eigen::Vector3d& displacement) {
-  models::massspring::Simulator sim(hybrid_masses(spec), static_options(1e-8));
-  models::massspring::State s = models::massspring::rest_state(sim.lattice());
-  need(mass >= 0 && mass < sim.lattice().size(), "no mass " + std::to_string(mass));
   need(displacement.allFinite(), "the displacement must be finite");
-  s.x.col(mass) += displacement;
-  sim.hold(mass, true);
-  return settle(sim, s, mass, 1e-9);
+  Held held(spec, mass, 1e-8);
+  return held.settle(held.rest().col(mass) + displacement, 1e-9);
 }
 
 std::vector<double> gain_inputs(const HybridSpec& s) {
-  return {double(kForceGainVersion), double(s.elements), s.size,         s.chain.stiffness,
-          s.chain.stretch,           s.chain.compress,   s.chain.shear,  s.relax_rate,
-          s.limit_stiffness,         s.material.mass,    s.material.k,   s.material.b,
-          s.material.drag,           s.volume,           s.volume_floor, s.stiff_ratio};
+  return {double(kForceGainVersion),
+          double(s.elements),
+          s.size,
+          s.chain.stiffness,
+          s.chain.stretch,
+          s.chain.compress,
+          s.chain.shear,
+          s.relax_rate,
+          s.limit_stiffness,
+          s.material.mass,
+          s.material.k,
+          s.material.b,
+          s.material.drag,
+          s.volume,
+          s.volume_floor,
+          s.stiff_ratio,
+          double(s.behavior_model),
+          s.fem.young,
+          s.fem.poisson,
+          s.fem.density,
+          s.fem.alpha,
+          s.fem.beta};
 }
 
 double ForceGain::at(double d, bool stiff_side) const {
@@ -160,13 +219,10 @@ ForceGain force_gain(const HybridSpec& spec) {
   // when both sides are one), pressed down in turn to every depth.
   auto side = [&](int i) {
     const int e = i + n * (n / 2 + n * (n - 1));
-    models::massspring::Simulator sim(hybrid_masses(spec), static_options(1e-5));
-    models::massspring::State s = models::massspring::rest_state(sim.lattice());
-    sim.hold(e, true);
+    Held held(spec, e, 1e-5);
     std::vector<double> g;
     for (const double d : gain.depth) {
-      s.x.col(e) = sim.lattice().rest.col(e) - Eigen::Vector3d(0, 0, d);
-      const double behavior = settle(sim, s, e, 1e-3).z();
+      const double behavior = held.settle(held.rest().col(e) - Eigen::Vector3d(0, 0, d), 1e-3).z();
       // The S-Chain as a stylus presses it: down over 100 ticks, held 200.
       SChain chain(hybrid_chains(spec), spec.relax_rate, spec.limit_stiffness);
       const Eigen::Vector3d rest = chain.lattice().rest(e);
@@ -220,6 +276,11 @@ Hybrid::Hybrid(const HybridSpec& spec, const MapSource& map, const GainSource& g
        "the force gain needs two or more depths and a gain at each");
   masses_ = std::make_unique<models::massspring::Simulator>(hybrid_masses(spec), spec.behavior);
   state_ = models::massspring::rest_state(masses_->lattice());
+  if (spec.behavior_model == BehaviorModel::fem) {
+    models::fem::Options o;
+    o.dt = spec.behavior.dt;
+    fem_ = std::make_unique<models::fem::Corotational>(hybrid_mesh(spec), spec.fem, o);
+  }
   lo_ = corner(spec), hi_ = lo_ + Eigen::Vector3d::Constant(spec.size);
   visual_ = rounded_box(spec.visual_subdivisions, lo_, hi_, spec.visual_exponent);
   const int n = spec.elements;
@@ -322,6 +383,11 @@ void Hybrid::couple() {
 }
 
 void Hybrid::integrate() {
+  if (fem_) {
+    fem_->step(state_, loads_);
+    simulated_ = int(state_.x.cols()), substeps_ = 1;
+    return;
+  }
   const models::massspring::StepInfo info = masses_->step(state_, loads_);
   simulated_ = info.simulated, substeps_ = info.substeps;
 }

@@ -16,6 +16,7 @@
 #include "models/deformable/object.h"
 #include "models/deformable/proxy.h"
 #include "models/deformable/schain.h"
+#include "models/fem/corotational.h"
 #include "models/haptic/friction.h"
 #include "models/massspring/mesh_lattice.h"
 #include "models/massspring/simulator.h"
@@ -28,6 +29,12 @@ namespace hcosim::models::deformable {
 enum class VisualMap { mvc, mvc_sparse, trilinear };
 const char* name(VisualMap map);
 VisualMap parse_visual_map(const std::string& name);  // throws std::invalid_argument listing the names
+
+// The behavior model: 001 §II.A's mass-spring lattice, or a corotational
+// FEM of a material (models/fem) on the same nodes (issue 26 item 3).
+enum class BehaviorModel { springs, fem };
+const char* name(BehaviorModel model);
+BehaviorModel parse_behavior_model(const std::string& name);  // throws std::invalid_argument listing the names
 
 struct HybridSpec {
   int elements = 10;                                     // chains and masses per edge (10: 001 Fig 7's 1000)
@@ -57,6 +64,16 @@ struct HybridSpec {
   // act alone, as 001 §II.A has them. volume 0: no floors.
   double volume = 10;
   double volume_floor = 0.5;
+  // With BehaviorModel::fem, the corotational FEM of `fem` on the lattice's
+  // nodes, five tetrahedra to a cell (Young's modulus times stiff_ratio in
+  // those whose four corners are on the stiff side), stepped by implicit
+  // Euler at behavior.dt: `material`, the volume floors and the behavior
+  // options' integrator and threshold then do not apply (corotated
+  // elements resist collapse and inversion themselves). The default
+  // material is soft tissue's order: 10 kPa, Poisson 0.3, 1000 kg/m^3,
+  // mass damping 10/s.
+  BehaviorModel behavior_model = BehaviorModel::springs;
+  models::fem::Material fem{10e3, 0.3, 1000, 10, 0};
   int visual_subdivisions = 30;  // 6 s^2 + 2 vertices, 12 s^2 triangles (30: 5402 and 10800)
   double visual_exponent = 8;    // rounding of the visual box's edges (rounded_box)
   VisualMap map = VisualMap::mvc_sparse;
@@ -75,6 +92,9 @@ void check(const HybridSpec& spec);
 // being mass e of the other.
 ChainLattice hybrid_chains(const HybridSpec& spec);
 models::massspring::Lattice hybrid_masses(const HybridSpec& spec);
+// The FEM behavior model's mesh: the lattice's nodes and anchors, five
+// tetrahedra to a cell, stiff_ratio in the stiff side's.
+models::fem::Mesh hybrid_mesh(const HybridSpec& spec);
 
 // N: the force on a holder keeping behavior mass `mass` of `spec` at its
 // rest position plus `displacement` once the lattice has settled
@@ -176,7 +196,8 @@ class Hybrid final : public Object {
   HybridSpec spec_;
   SChain chains_;
   ForceGain gain_;
-  std::unique_ptr<models::massspring::Simulator> masses_;
+  std::unique_ptr<models::massspring::Simulator> masses_;  // its lattice gives either model's nodes
+  std::unique_ptr<models::fem::Corotational> fem_;         // BehaviorModel::fem
   models::massspring::State state_;
   models::massspring::TriangleMesh visual_;
   std::vector<int> cage_;  // masses whose positions the map reads, in its column order

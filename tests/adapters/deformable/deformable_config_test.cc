@@ -15,7 +15,7 @@ TEST(DeformableConfig, ReadsEachObjectsSpec) {
   const DeformableConfig d = deformable_config(
       params("device: right\nvisual_rate: 60\ntip_radius: 0.002\nobjects:\n"
              "  - {name: organ, size: 0.06, elements: 5, stiff_ratio: 3, map: trilinear, behavior_rate: 500,"
-             " friction: 0.6, volume: 3}\n"
+             " friction: 0.6, volume: 3, behavior: fem, young: 20000, poisson: 0.35, density: 1100}\n"
              "  - {name: skin, model: sheet, size: 0.1, resolution: 12, stiffness: 40, centre: [0, 0, 0.01],"
              " bending: 0.001}\n"
              "  - {name: dome, model: semisphere}\n"),
@@ -29,6 +29,12 @@ TEST(DeformableConfig, ReadsEachObjectsSpec) {
   EXPECT_EQ(h.elements, 5);
   EXPECT_EQ(h.stiff_ratio, 3);
   EXPECT_EQ(h.volume, 3);
+  EXPECT_EQ(h.behavior_model, models::deformable::BehaviorModel::fem);
+  EXPECT_EQ(h.fem.young, 20000);
+  EXPECT_EQ(h.fem.poisson, 0.35);
+  EXPECT_EQ(h.fem.density, 1100);
+  EXPECT_EQ(deformable_config(params("objects: [{name: a}]\n"), 0.001).objects[0].hybrid.behavior_model,
+            models::deformable::BehaviorModel::springs);
   EXPECT_EQ(deformable_config(params("objects: [{name: a}]\n"), 0.001).objects[0].hybrid.volume,
             models::deformable::HybridSpec{}.volume);  // volume floors by default
   EXPECT_GT(models::deformable::HybridSpec{}.volume, 0);
@@ -85,6 +91,9 @@ TEST(DeformableConfig, MistakesAreNamedAtTheirPlace) {
   EXPECT_EQ(error("objects: [{name: a, model: semisphere, bending: -1}]\n"),
             "d.yaml:1:49: 'bending' = -1 is outside [0, 1]");
   EXPECT_EQ(error("objects: [{name: a, volume: -1}]\n"), "d.yaml:1:29: 'volume' = -1 is outside [0, 1000]");
+  EXPECT_EQ(error("objects: [{name: a, behavior: fem, poisson: 0.5}]\n"),
+            "d.yaml:1:45: 'poisson' = 0.5 is outside [0, 0.49]");
+  EXPECT_EQ(error("objects: [{name: a, behavior: soft}]\n").rfind("d.yaml:1:31: 'behavior'", 0), 0u);
   EXPECT_EQ(error("objects: [{name: a, friction: 11}]\n"), "d.yaml:1:31: 'friction' = 11 is outside [0, 10]");
   EXPECT_EQ(error("tip_radius: 0.008\nobjects: [{name: a, size: 0.015}]\n"),
             "d.yaml:2:27: the object must be wider than the stylus tip (tip_radius)");
