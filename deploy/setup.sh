@@ -4,6 +4,7 @@
 set -euo pipefail
 
 # libqhull-dev: the mujoco CMake package names its include directory.
+# libbullet-dev: Bullet's soft body, a peer in hcosim bench massspring.
 # jq: the tests read bench reports with it.
 # clang, libclang-rt-14-dev: the sanitizer build and libFuzzer (deploy/fuzz.sh).
 # openssl: hcosim security init; tshark: the wire test of DDS Security.
@@ -12,7 +13,8 @@ packages=(
   build-essential cmake ninja-build ccache pkg-config
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
   libeigen3-dev libopencv-dev libopencv-contrib-dev libapriltag-dev
-  libmujoco-dev libqhull-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev googletest libgtest-dev libbenchmark-dev
+  libmujoco-dev libbullet-dev libqhull-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev googletest libgtest-dev
+  libbenchmark-dev
   cyclonedds-dev cyclonedds-tools jq clang libclang-rt-14-dev
   openssl tshark clang-format-14
 )

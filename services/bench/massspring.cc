@@ -19,6 +19,19 @@
 // per servo tick while pressed, force_n the force felt at the end of the
 // hold.
 //
+// against_fem: a continuum reference (issue 26 item 3). The lattice is a
+// 4 cm cube of 5^3 masses with springs along its edges and both face
+// diagonals, whose elastic constants are those of an isotropic solid of
+// Young's modulus 2.5 k / a and Poisson's ratio 1/4; the corotational FEM
+// (models/fem) of that solid, of the lattice's mass and mass damping drag / m,
+// on a mesh refined `refinement` times and stepped by the trapezoidal
+// rule at 0.1 ms, is the reference. The top face's centre 2 x 2 cm patch is
+// pressed with 0.2 N for 0.1 s, then let go; rel_error as for `step`, at
+// the lattice's masses (the fine mesh's nodes in the same places). The
+// `fem_reference` row reports the reference's own change when its mesh is
+// one refinement coarser (ref_space_error) and its step twice as long
+// (ref_time_error); against_fem_static the same press settled.
+//
 // adaptive: the adaptive model against the full one with the same
 // integrator and step, as the threshold falls, on a 12^3 box (anchored
 // floor, 50 or 5000 N/m springs) pressed with 0.3 N at its top for 0.2 s,
@@ -34,14 +47,18 @@
 #include <sstream>
 
 #include "models/deformable/elastic_surface.h"
+#include "models/fem/corotational.h"
+#include "models/massspring/quartet.h"
 #include "models/massspring/simulator.h"
 #include "services/bench/bench.h"
+#include "services/bench/bullet_soft.h"
 #include "services/bench/mujoco_lattice.h"
 
 namespace hcosim::services::bench {
 namespace {
 
 namespace ms = hcosim::models::massspring;
+namespace fem = hcosim::models::fem;
 
 constexpr double kDuration = 0.2, kPress = 0.1, kSample = 0.02;  // s
 
@@ -326,6 +343,235 @@ std::vector<Row> recovery_rows(const Context& c) {
   return rows;
 }
 
+// The cube of against_fem: kCells cells of kSpacing a side.
+constexpr int kCells = 4;
+constexpr double kSpacing = 0.01, kPressN = 0.2;
+
+// The press on a box of `per_edge` nodes `spacing` apart: kPressN down,
+// spread over the top face's centre patch (two cells of kSpacing a side)
+// by trapezoid weights along x and y, so that every refinement presses the
+// same area the same way.
+std::vector<ms::PointForce> patch_press(const Eigen::Matrix3Xd& rest, double spacing) {
+  const double top = rest.row(2).maxCoeff(), centre = 0.5 * kCells * kSpacing;
+  auto weight = [&](double t) {
+    const double d = std::abs(t - centre);
+    return d < kSpacing - 0.25 * spacing ? 1.0 : d < kSpacing + 0.25 * spacing ? 0.5 : 0.0;
+  };
+  std::vector<ms::PointForce> loads;
+  double sum = 0;
+  for (int i = 0; i < rest.cols(); ++i) {
+    const double w = rest(2, i) > top - 1e-9 ? weight(rest(0, i)) * weight(rest(1, i)) : 0;
+    if (w > 0) loads.push_back({i, Eigen::Vector3d(0, 0, w)}), sum += w;
+  }
+  for (ms::PointForce& p : loads) p.force *= -kPressN / sum;
+  return loads;
+}
+
+ms::Material cube_material() {
+  ms::Material m;
+  m.mass = 1e-3, m.k = 50, m.drag = 5e-3;
+  return m;
+}
+
+// The continuum the lattice stands for (see against_fem above): its
+// elastic constants, the lattice's whole mass over the cube's volume, and
+// the drag as mass damping.
+fem::Material continuum(const ms::Material& m) {
+  fem::Material f;
+  f.young = 2.5 * m.k / kSpacing;
+  f.poisson = 0.25;
+  f.density = m.mass * std::pow(kCells + 1, 3) / std::pow(kCells * kSpacing, 3);
+  f.alpha = m.drag / m.mass;
+  return f;
+}
+
+// The positions at the lattice's masses once the press has settled
+// (quasi-static: implicit steps of 1 s), for the springs or the FEM
+// refined r times (r = 0: the springs).
+Eigen::Matrix3Xd settled(int r) {
+  const int coarse = kCells + 1;
+  if (r == 0) {
+    ms::Lattice l = ms::make_box(coarse, coarse, coarse, kSpacing, cube_material(), ms::Shear::both);
+    ms::anchor_where(l, [](const Eigen::Vector3d& p) { return p.z() < 1e-9; });
+    ms::Options o;
+    o.integrator = ms::Integrator::implicit_euler, o.dt = 1, o.tolerance = 1e-10;
+    ms::Simulator sim(l, o);
+    ms::State s = ms::rest_state(l);
+    const std::vector<ms::PointForce> press = patch_press(l.rest, kSpacing);
+    for (int k = 0; k < 200; ++k) sim.step(s, press);
+    return s.x;
+  }
+  const int n = r * kCells + 1;
+  fem::Mesh mesh = fem::box_mesh(n, n, n, kSpacing / r);
+  for (int i = 0; i < mesh.size(); ++i) mesh.anchored[i] = mesh.rest(2, i) < 1e-12;
+  fem::Options o;
+  o.dt = 1, o.tolerance = 1e-10;
+  fem::Corotational f(mesh, continuum(cube_material()), o);
+  ms::State s = fem::rest_state(mesh);
+  const std::vector<ms::PointForce> press = patch_press(mesh.rest, kSpacing / r);
+  for (int k = 0; k < 100; ++k) f.step(s, press);
+  Eigen::Matrix3Xd x(3, coarse * coarse * coarse);
+  for (int k = 0, q = 0; k < coarse; ++k)
+    for (int j = 0; j < coarse; ++j)
+      for (int i = 0; i < coarse; ++i) x.col(q++) = s.x.col(r * i + n * (r * j + n * r * k));
+  return x;
+}
+
+// The FEM cube refined `r` times, stepped at dt by `scheme`; samples at
+// the lattice's masses.
+Trace run_fem(int r, double dt, fem::Scheme scheme) {
+  const int n = r * kCells + 1, coarse = kCells + 1;
+  fem::Mesh mesh = fem::box_mesh(n, n, n, kSpacing / r);
+  for (int i = 0; i < mesh.size(); ++i) mesh.anchored[i] = mesh.rest(2, i) < 1e-12;
+  fem::Options o;
+  o.dt = dt, o.scheme = scheme;
+  fem::Corotational f(mesh, continuum(cube_material()), o);
+  ms::State s = fem::rest_state(mesh);
+  const std::vector<ms::PointForce> press = patch_press(mesh.rest, kSpacing / r), none;
+  std::vector<int> at;
+  for (int k = 0; k < coarse; ++k)
+    for (int j = 0; j < coarse; ++j)
+      for (int i = 0; i < coarse; ++i) at.push_back(r * i + n * (r * j + n * r * k));
+  return timeline(
+      dt, [&](bool loaded) { f.step(s, loaded ? press : none); },
+      [&] {
+        Eigen::Matrix3Xd x(3, at.size());
+        for (std::size_t q = 0; q < at.size(); ++q) x.col(q) = s.x.col(at[q]);
+        return x;
+      });
+}
+
+double trace_error(const Trace& got, const Trace& ref, const Eigen::Matrix3Xd& rest) {
+  double num = 0, den = 0;
+  for (std::size_t i = 0; i < ref.samples.size(); ++i) {
+    num += (got.samples[i] - ref.samples[i]).squaredNorm();
+    den += (ref.samples[i] - rest).squaredNorm();
+  }
+  return std::sqrt(num / den);
+}
+
+std::vector<Row> fem_rows(const Context& c) {
+  const int refinement = c.quick ? 2 : 3;
+  const double ref_dt = 1e-4;
+  progress("massspring against_fem: the FEM reference, refinement " + std::to_string(refinement));
+  const Trace ref = run_fem(refinement, ref_dt, fem::Scheme::trapezoidal);
+  const Trace coarser = run_fem(refinement - 1, ref_dt, fem::Scheme::trapezoidal);
+  const Trace longer = run_fem(refinement, 2 * ref_dt, fem::Scheme::trapezoidal);
+  ms::Lattice l = ms::make_box(kCells + 1, kCells + 1, kCells + 1, kSpacing, cube_material(), ms::Shear::both);
+  ms::anchor_where(l, [](const Eigen::Vector3d& p) { return p.z() < 1e-9; });
+  const fem::Material cont = continuum(cube_material());
+  std::vector<Row> rows;
+  progress("massspring against_fem: settled presses");
+  const Eigen::Matrix3Xd still = settled(refinement), still_coarser = settled(refinement - 1);
+  auto static_error = [&](const Eigen::Matrix3Xd& x) { return (x - still).norm() / (still - l.rest).norm(); };
+  rows.push_back({"fem_reference",
+                  {{"cells", double(kCells)},
+                   {"refinement", double(refinement)},
+                   {"nodes", std::pow(refinement * kCells + 1, 3)},
+                   {"scheme", std::string("trapezoidal")},
+                   {"dt", ref_dt}},
+                  {{"young_pa", cont.young},
+                   {"poisson", cont.poisson},
+                   {"ref_space_error", trace_error(coarser, ref, l.rest)},
+                   {"ref_time_error", trace_error(longer, ref, l.rest)},
+                   {"ref_static_error", static_error(still_coarser)},
+                   {"ms_per_sim_s", ref.wall_s * 1e3 / kDuration}}});
+  const std::vector<ms::PointForce> press = patch_press(l.rest, kSpacing), none;
+  auto add = [&](const std::string& model, const std::string& integrator, double dt, double threshold, const Trace& t) {
+    rows.push_back({"against_fem",
+                    {{"model", model}, {"integrator", integrator}, {"dt", dt}, {"threshold", threshold}},
+                    {{"rel_error", trace_error(t, ref, l.rest)},
+                     {"ms_per_sim_s", t.wall_s * 1e3 / kDuration},
+                     {"substeps", double(t.substeps)}}});
+  };
+  struct Run {
+    ms::Integrator integrator;
+    double dt, threshold;
+  };
+  for (const Run cf :
+       {Run{ms::Integrator::symplectic_euler, 1e-3, 0}, Run{ms::Integrator::symplectic_euler, 1e-3, 1e-10},
+        Run{ms::Integrator::velocity_verlet, 1e-3, 0}, Run{ms::Integrator::velocity_verlet, 1e-3, 1e-10},
+        Run{ms::Integrator::rk4, 1e-3, 0}, Run{ms::Integrator::rk4, 1e-4, 0},
+        Run{ms::Integrator::implicit_euler, 1e-3, 0}, Run{ms::Integrator::implicit_euler, 1.0 / 30, 0},
+        Run{ms::Integrator::local_global, 1e-3, 0}}) {
+    ms::Options o;
+    o.integrator = cf.integrator, o.dt = cf.dt, o.threshold = cf.threshold;
+    const double dt = cf.dt;
+    if (std::abs(kSample / dt - std::round(kSample / dt)) > 1e-9) continue;
+    progress(std::string("massspring against_fem: ") + ms::name(cf.integrator) + ", dt " + fmt(dt));
+    Trace t = measure(
+        [&] {
+          ms::Simulator sim(l, o);
+          ms::State st = ms::rest_state(l);
+          int substeps = 1;
+          Trace tr = timeline(
+              dt, [&](bool loaded) { substeps = std::max(substeps, sim.step(st, loaded ? press : none).substeps); },
+              [&] { return st.x; });
+          tr.substeps = substeps;
+          return tr;
+        },
+        3);
+    add("springs", ms::name(cf.integrator), dt, cf.threshold, t);
+  }
+  // Bullet's soft body on the same nodes and tetrahedra, masses and drag
+  // (kDP = drag dt / m), over its stiffness coefficient and iterations.
+  const Eigen::VectorXd masses = l.mass;
+  for (const double stiffness : {0.1, 0.5, 1.0})
+    for (const int iterations : {1, 4, 16}) {
+      progress("massspring against_fem: Bullet's soft body, kLST " + fmt(stiffness) + ", " +
+               std::to_string(iterations) + " iterations");
+      BulletSoftSettings bs;
+      bs.stiffness = stiffness, bs.iterations = iterations, bs.dt = 1e-3;
+      bs.damping = cube_material().drag / cube_material().mass * bs.dt;
+      const Trace t = measure(
+          [&] {
+            BulletSoft body(l.rest, ms::box_tetrahedra(kCells + 1, kCells + 1, kCells + 1), masses, l.anchored, bs);
+            return timeline(
+                bs.dt, [&](bool loaded) { body.step(loaded ? press : none); }, [&] { return body.positions(); });
+          },
+          3);
+      rows.push_back({"against_fem",
+                      {{"model", std::string("bullet")},
+                       {"integrator", std::string("btSoftBody")},
+                       {"dt", bs.dt},
+                       {"threshold", 0.0},
+                       {"bullet_stiffness", stiffness},
+                       {"bullet_iterations", double(iterations)}},
+                      {{"rel_error", trace_error(t, ref, l.rest)},
+                       {"ms_per_sim_s", t.wall_s * 1e3 / kDuration},
+                       {"substeps", 1.0}}});
+    }
+  for (const int r : {0, 1})
+    rows.push_back({"against_fem_static",
+                    {{"model", std::string(r == 0 ? "springs" : "fem")}},
+                    {{"rel_error", static_error(settled(r))}}});
+  for (const fem::Scheme scheme : {fem::Scheme::implicit_euler, fem::Scheme::trapezoidal}) {
+    const char* name = scheme == fem::Scheme::trapezoidal ? "trapezoidal" : "implicit_euler";
+    progress(std::string("massspring against_fem: the FEM on the lattice's nodes, ") + name);
+    add("fem", name, 1e-3, 0, measure([&] { return run_fem(1, 1e-3, scheme); }, 3));
+  }
+  // Each Bullet row: its time over that of our fastest row (springs or
+  // FEM) whose error is no larger; 0 where none of ours is as close.
+  // against_fem rows: params[0] the model; metrics rel_error, ms_per_sim_s.
+  auto model = [](const Row& r) { return std::get<std::string>(r.params[0].second); };
+  for (Row& b : rows) {
+    if (b.name != "against_fem" || model(b) != "bullet") continue;
+    const Row* best = nullptr;
+    for (const Row& o : rows)
+      if (o.name == "against_fem" && model(o) != "bullet" && o.metrics[0].second <= b.metrics[0].second &&
+          (!best || o.metrics[1].second < best->metrics[1].second))
+        best = &o;
+    b.metrics.push_back({"speedup_at_equal_error", best ? b.metrics[1].second / best->metrics[1].second : 0.0});
+    std::string match = best ? "" : "none";
+    if (best)
+      for (const auto& [k, v] : best->params)
+        if (k == "model" || k == "integrator" || k == "dt" || k == "threshold")
+          match += (match.empty() ? "" : " ") + k + "=" + text(v);
+    b.params.push_back({"matched_by", match});
+  }
+  return rows;
+}
+
 std::vector<Row> adaptive_rows(const Context& c) {
   std::vector<Row> rows;
   struct Case {
@@ -395,6 +641,7 @@ std::vector<Row> massspring_rows(const Context& c) {
     for (Row& r : scene_rows(sc, c)) all.push_back(std::move(r));
   for (Row& r : recovery_rows(c)) all.push_back(std::move(r));
   for (Row& r : adaptive_rows(c)) all.push_back(std::move(r));
+  for (Row& r : fem_rows(c)) all.push_back(std::move(r));
   return all;
 }
 
@@ -403,8 +650,8 @@ std::vector<Row> massspring_rows(const Context& c) {
 Suite massspring_suite() {
   Suite s{"massspring",
           "mass-spring behavior model: integrators, adaptive active masses and MuJoCo 2.2.2 on the same lattices, "
-          "ms per simulated s against error from a converged RK4 reference; the elastic surfaces' recovery after "
-          "release",
+          "ms per simulated s against error from a converged RK4 reference and from a converged corotational FEM "
+          "of the solid the lattice stands for; the elastic surfaces' recovery after release",
           massspring_rows};
   s.tables = {{"reference",
                "The reference each lattice's errors are measured from: RK4 at a sixteenth of its stable step; "
@@ -425,7 +672,25 @@ Suite massspring_suite() {
                "falls: a 12^3 box with its floor anchored, pressed with 0.3 N at its top for 0.2 s, at 1/30 s "
                "(the explicit integrators' substeps in `substeps`) and at 0.5 ms with 5000 N/m springs; rel_error "
                "of the final positions, the most masses simulated at once as a fraction of the full model's, and "
-               "wall ms against the full model's (full_ms)."}};
+               "wall ms against the full model's (full_ms)."},
+              {"fem_reference",
+               "The continuum reference of `against_fem`: the corotational FEM (models/fem) of the solid the cube's "
+               "lattice stands for (Young's modulus 2.5 k / a, Poisson's ratio 1/4), its mesh refined `refinement` "
+               "times, trapezoidal rule at 0.1 ms; its relative change with one refinement less (ref_space_error) "
+               "and twice the step (ref_time_error), its settled press's change with one refinement less "
+               "(ref_static_error), and its wall ms per simulated s."},
+              {"against_fem_static",
+               "The same press settled (quasi-static): the positions' relative error from the reference's settled "
+               "press at the masses, for the springs and for the FEM on the lattice's own nodes."},
+              {"against_fem",
+               "A 4 cm cube of 5^3 masses (springs along the edges and both face diagonals, floor anchored), its "
+               "top's centre 2 x 2 cm patch pressed with 0.2 N for 0.1 s then let go, 0.2 s simulated: the "
+               "positions' relative error from the FEM reference at the masses, every 20 ms, per behavior model "
+               "(`springs`: the mass-spring lattice; `fem`: the FEM on the lattice's own nodes; `bullet`: Bullet "
+               "3.24's btSoftBody with a link along every tetrahedron edge, over its stiffness coefficient kLST and "
+               "position iterations), integrator, step and adaptive threshold, against wall ms per simulated s "
+               "(median of 3 runs); a Bullet row's speedup_at_equal_error is its time over our fastest row with no "
+               "larger error (0: none of ours is as close)."}};
   s.plots = {{"step",
               "ms_per_sim_s",
               "rel_error",
@@ -441,7 +706,12 @@ Suite massspring_suite() {
               "off_2s_mm", 0.1, "model", "hinges"},
              {"adaptive error under 1 % at the smallest threshold, every integrator, with substeps and implicit "
               "steps",
-              "adaptive", "rel_error", 0.01, "threshold", "1e-16"}};
+              "adaptive", "rel_error", 0.01, "threshold", "1e-16"},
+             {"at equal or lower error against the FEM reference, the fastest of ours at least 10 times faster than "
+              "Bullet's soft body",
+              "against_fem", "speedup_at_equal_error", 10, "model", "bullet", true},
+             {"FEM reference converged: its settled press under 5 % change with one refinement less", "fem_reference",
+              "ref_static_error", 0.05}};
   return s;
 }
 
