@@ -451,7 +451,7 @@ double trace_error(const Trace& got, const Trace& ref, const Eigen::Matrix3Xd& r
 }
 
 std::vector<Row> fem_rows(const Context& c) {
-  const int refinement = c.quick ? 2 : 3;
+  const int refinement = c.quick ? 3 : 4;
   const double ref_dt = 1e-4;
   progress("massspring against_fem: the FEM reference, refinement " + std::to_string(refinement));
   const Trace ref = run_fem(refinement, ref_dt, fem::Scheme::trapezoidal);
