@@ -104,12 +104,15 @@ SpectrumParts spectrum_parts(const Lattice& l, const std::vector<std::uint8_t>& 
 }
 
 Spectrum SpectrumParts::spectrum() const {
+  return with_rows(quartet_k.size() ? quartet_k.maxCoeff() : 0.0, quartet_b.size() ? quartet_b.maxCoeff() : 0.0);
+}
+
+Spectrum SpectrumParts::with_rows(double qk, double qb) const {
   Spectrum sp;
-  const double qk = quartet_k.size() ? quartet_k.maxCoeff() : 0.0;
   sp.quartet_omega_max = std::sqrt(qk);
-  sp.quartet_damping_max = quartet_b.size() ? quartet_b.maxCoeff() : 0.0;
+  sp.quartet_damping_max = qb;
   sp.omega_max = std::sqrt(spring_k + qk);
-  sp.damping_max = spring_b + sp.quartet_damping_max;
+  sp.damping_max = spring_b + qb;
   sp.drag_max = drag_max;
   return sp;
 }

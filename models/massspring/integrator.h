@@ -71,6 +71,9 @@ struct SpectrumParts {
   Eigen::VectorXd quartet_k, quartet_b;
   // The spectrum these parts bound.
   Spectrum spectrum() const;
+  // The same with the quartets' largest rows given (a simulator's rows
+  // with more quartets counted than these parts have).
+  Spectrum with_rows(double quartet_k_max, double quartet_b_max) const;
 };
 // `counted` has one flag per quartet of the lattice.
 SpectrumParts spectrum_parts(const Lattice& lattice, const std::vector<std::uint8_t>& counted);

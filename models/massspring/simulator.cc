@@ -217,13 +217,7 @@ struct Simulator::Impl {
       const Quartet& q = lat.quartets[qi];
       for (const int c : {q.i, q.j, q.k, q.l}) extra_k[c] = extra_b[c] = 0;
     }
-    Spectrum sp;
-    sp.quartet_omega_max = std::sqrt(qk);
-    sp.quartet_damping_max = qb;
-    sp.omega_max = std::sqrt(parts.spring_k + qk);
-    sp.damping_max = parts.spring_b + qb;
-    sp.drag_max = parts.drag_max;
-    const double h = models::massspring::stable_step(opt.integrator, sp);
+    const double h = models::massspring::stable_step(opt.integrator, parts.with_rows(qk, qb));
     return opt.dt > h ? std::min(substeps, int(std::ceil(opt.dt / h))) : 1;
   }
 
