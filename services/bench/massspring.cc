@@ -385,14 +385,55 @@ fem::Material continuum(const ms::Material& m) {
   return f;
 }
 
+// The cube's lattice: springs along the edges and both face diagonals,
+// its floor anchored.
+ms::Lattice cube_lattice() {
+  ms::Lattice l = ms::make_box(kCells + 1, kCells + 1, kCells + 1, kSpacing, cube_material(), ms::Shear::both);
+  ms::anchor_where(l, [](const Eigen::Vector3d& p) { return p.z() < 1e-9; });
+  return l;
+}
+
+// The FEM cube refined `r` times, its floor anchored, and its nodes where
+// the lattice's masses are, in the lattice's order.
+struct FemCube {
+  fem::Mesh mesh;
+  std::vector<int> at;
+  Eigen::Matrix3Xd sample(const Eigen::Matrix3Xd& x) const {
+    Eigen::Matrix3Xd out(3, at.size());
+    for (std::size_t q = 0; q < at.size(); ++q) out.col(q) = x.col(at[q]);
+    return out;
+  }
+};
+
+FemCube fem_cube(int r) {
+  const int n = r * kCells + 1;
+  FemCube c{fem::box_mesh(n, n, n, kSpacing / r), {}};
+  for (int i = 0; i < c.mesh.size(); ++i) c.mesh.anchored[i] = c.mesh.rest(2, i) < 1e-12;
+  for (int k = 0; k <= kCells; ++k)
+    for (int j = 0; j <= kCells; ++j)
+      for (int i = 0; i <= kCells; ++i) c.at.push_back(r * i + n * (r * j + n * r * k));
+  return c;
+}
+
+// The FEM cube refined `r` times, stepped at dt by `scheme`; samples at
+// the lattice's masses.
+Trace run_fem(int r, double dt, fem::Scheme scheme) {
+  const FemCube c = fem_cube(r);
+  fem::Options o;
+  o.dt = dt, o.scheme = scheme;
+  fem::Corotational f(c.mesh, continuum(cube_material()), o);
+  ms::State s = fem::rest_state(c.mesh);
+  const std::vector<ms::PointForce> press = patch_press(c.mesh.rest, kSpacing / r), none;
+  return timeline(
+      dt, [&](bool loaded) { f.step(s, loaded ? press : none); }, [&] { return c.sample(s.x); });
+}
+
 // The positions at the lattice's masses once the press has settled
 // (quasi-static: implicit steps of 1 s), for the springs or the FEM
 // refined r times (r = 0: the springs).
 Eigen::Matrix3Xd settled(int r) {
-  const int coarse = kCells + 1;
   if (r == 0) {
-    ms::Lattice l = ms::make_box(coarse, coarse, coarse, kSpacing, cube_material(), ms::Shear::both);
-    ms::anchor_where(l, [](const Eigen::Vector3d& p) { return p.z() < 1e-9; });
+    const ms::Lattice l = cube_lattice();
     ms::Options o;
     o.integrator = ms::Integrator::implicit_euler, o.dt = 1, o.tolerance = 1e-10;
     ms::Simulator sim(l, o);
@@ -401,44 +442,14 @@ Eigen::Matrix3Xd settled(int r) {
     for (int k = 0; k < 200; ++k) sim.step(s, press);
     return s.x;
   }
-  const int n = r * kCells + 1;
-  fem::Mesh mesh = fem::box_mesh(n, n, n, kSpacing / r);
-  for (int i = 0; i < mesh.size(); ++i) mesh.anchored[i] = mesh.rest(2, i) < 1e-12;
+  const FemCube c = fem_cube(r);
   fem::Options o;
   o.dt = 1, o.tolerance = 1e-10;
-  fem::Corotational f(mesh, continuum(cube_material()), o);
-  ms::State s = fem::rest_state(mesh);
-  const std::vector<ms::PointForce> press = patch_press(mesh.rest, kSpacing / r);
+  fem::Corotational f(c.mesh, continuum(cube_material()), o);
+  ms::State s = fem::rest_state(c.mesh);
+  const std::vector<ms::PointForce> press = patch_press(c.mesh.rest, kSpacing / r);
   for (int k = 0; k < 100; ++k) f.step(s, press);
-  Eigen::Matrix3Xd x(3, coarse * coarse * coarse);
-  for (int k = 0, q = 0; k < coarse; ++k)
-    for (int j = 0; j < coarse; ++j)
-      for (int i = 0; i < coarse; ++i) x.col(q++) = s.x.col(r * i + n * (r * j + n * r * k));
-  return x;
-}
-
-// The FEM cube refined `r` times, stepped at dt by `scheme`; samples at
-// the lattice's masses.
-Trace run_fem(int r, double dt, fem::Scheme scheme) {
-  const int n = r * kCells + 1, coarse = kCells + 1;
-  fem::Mesh mesh = fem::box_mesh(n, n, n, kSpacing / r);
-  for (int i = 0; i < mesh.size(); ++i) mesh.anchored[i] = mesh.rest(2, i) < 1e-12;
-  fem::Options o;
-  o.dt = dt, o.scheme = scheme;
-  fem::Corotational f(mesh, continuum(cube_material()), o);
-  ms::State s = fem::rest_state(mesh);
-  const std::vector<ms::PointForce> press = patch_press(mesh.rest, kSpacing / r), none;
-  std::vector<int> at;
-  for (int k = 0; k < coarse; ++k)
-    for (int j = 0; j < coarse; ++j)
-      for (int i = 0; i < coarse; ++i) at.push_back(r * i + n * (r * j + n * r * k));
-  return timeline(
-      dt, [&](bool loaded) { f.step(s, loaded ? press : none); },
-      [&] {
-        Eigen::Matrix3Xd x(3, at.size());
-        for (std::size_t q = 0; q < at.size(); ++q) x.col(q) = s.x.col(at[q]);
-        return x;
-      });
+  return c.sample(s.x);
 }
 
 double trace_error(const Trace& got, const Trace& ref, const Eigen::Matrix3Xd& rest) {
@@ -457,8 +468,7 @@ std::vector<Row> fem_rows(const Context& c) {
   const Trace ref = run_fem(refinement, ref_dt, fem::Scheme::trapezoidal);
   const Trace coarser = run_fem(refinement - 1, ref_dt, fem::Scheme::trapezoidal);
   const Trace longer = run_fem(refinement, 2 * ref_dt, fem::Scheme::trapezoidal);
-  ms::Lattice l = ms::make_box(kCells + 1, kCells + 1, kCells + 1, kSpacing, cube_material(), ms::Shear::both);
-  ms::anchor_where(l, [](const Eigen::Vector3d& p) { return p.z() < 1e-9; });
+  const ms::Lattice l = cube_lattice();
   const fem::Material cont = continuum(cube_material());
   std::vector<Row> rows;
   progress("massspring against_fem: settled presses");
