@@ -70,26 +70,35 @@ models::deformable::Weights read(const fs::path& path, Eigen::Index rows, Eigen:
   return w;
 }
 
-void write(const fs::path& path, models::deformable::Weights w) {
-  w.makeCompressed();
+// Writes `path` whole or not at all: `fill` writes a file beside it, which
+// is renamed into place, so that runs sharing a folder never read half a
+// file. A cache that cannot be written only costs the next start its time.
+template <class Fill>
+void write_whole(const fs::path& path, Fill&& fill) {
   const fs::path tmp = path.string() + "." + std::to_string(::getpid()) + ".tmp";
+  std::error_code ec;
   {
     std::ofstream out(tmp, std::ios::binary);
+    fill(out);
+    if (!out) {
+      fs::remove(tmp, ec);
+      return;
+    }
+  }
+  fs::rename(tmp, path, ec);
+  if (ec) fs::remove(tmp, ec);
+}
+
+void write(const fs::path& path, models::deformable::Weights w) {
+  w.makeCompressed();
+  write_whole(path, [&](std::ofstream& out) {
     const std::int64_t header[3] = {w.rows(), w.cols(), w.nonZeros()};
     out.write(reinterpret_cast<const char*>(&kMagic), sizeof kMagic);
     out.write(reinterpret_cast<const char*>(header), sizeof header);
     out.write(reinterpret_cast<const char*>(w.outerIndexPtr()), std::streamsize(sizeof(int) * (w.rows() + 1)));
     out.write(reinterpret_cast<const char*>(w.innerIndexPtr()), std::streamsize(sizeof(int) * w.nonZeros()));
     out.write(reinterpret_cast<const char*>(w.valuePtr()), std::streamsize(sizeof(double) * w.nonZeros()));
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      return;  // a cache that cannot be written only costs the next start its time
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) fs::remove(tmp, ec);
+  });
 }
 
 constexpr std::uint64_t kGainMagic = 0x31'6e'69'61'67'6f'63'68ULL;  // "hcogain1"
@@ -114,23 +123,13 @@ models::deformable::ForceGain read_gain(const fs::path& path) {
 }
 
 void write_gain(const fs::path& path, const models::deformable::ForceGain& g) {
-  const fs::path tmp = path.string() + "." + std::to_string(::getpid()) + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
+  write_whole(path, [&](std::ofstream& out) {
     const std::int64_t header[2] = {std::int64_t(g.depth.size()), g.stiff.empty() ? 0 : 1};
     out.write(reinterpret_cast<const char*>(&kGainMagic), sizeof kGainMagic);
     out.write(reinterpret_cast<const char*>(header), sizeof header);
     for (const auto* v : {&g.depth, &g.soft, &g.stiff})
       out.write(reinterpret_cast<const char*>(v->data()), std::streamsize(sizeof(double) * v->size()));
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      return;
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) fs::remove(tmp, ec);
+  });
 }
 
 }  // namespace

@@ -78,7 +78,6 @@ struct Corotational::Impl {
 
   Eigen::SparseMatrix<double> A;  // the step's matrix, pattern fixed
   Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg;
-  std::vector<Eigen::Matrix3d> rot;  // per element, this step's
   Eigen::VectorXd rhs, guess, fixed;
 
   Impl(Mesh m, const Material& material, const Options& options) : mesh(std::move(m)), mat(material), opt(options) {
@@ -133,7 +132,6 @@ struct Corotational::Impl {
     for (int i = 0; i < n; ++i)
       need(mass[i] > 0 || mesh.anchored[i], "node " + std::to_string(i) + " is in no tetrahedron and not anchored");
     held.assign(n, 0);
-    rot.assign(elements.size(), Eigen::Matrix3d::Identity());
     build_pattern();
   }
 
@@ -203,9 +201,8 @@ struct Corotational::Impl {
     for (const models::massspring::PointForce& p : loads) f.col(p.mass) += p.force;
     std::fill(A.valuePtr(), A.valuePtr() + A.nonZeros(), 0.0);
     double* values = A.valuePtr();
-    for (std::size_t k = 0; k < elements.size(); ++k) {
-      const Element& e = elements[k];
-      const Eigen::Matrix3d R = rot[k] = element_rotation(e, s.x);
+    for (const Element& e : elements) {
+      const Eigen::Matrix3d R = element_rotation(e, s.x);
       const Vec12 fe = element_force(e, R, s.x);
       for (int p = 0; p < 4; ++p) f.col(e.c[p]) += fe.segment<3>(3 * p);
       for (int p = 0; p < 4; ++p)
