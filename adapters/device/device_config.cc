@@ -8,7 +8,8 @@ namespace hcosim::adapters::device {
 
 DeviceConfig device_config(const Config& p, double servo_hz) {
   p.allow_only({"device", "replay", "script", "passivity", "source_timeout", "max_damping", "reservoir",
-                "hand_stiffness", "hand_damping", "centre", "answer_wait", "report", "tip_radius"});
+                "hand_stiffness", "hand_damping", "backdrive_friction", "centre", "answer_wait", "report",
+                "tip_radius"});
   DeviceConfig c;
   c.replay = p.text("device", "simulated", {"simulated", "replay"}) == "replay";
   c.source = p.path(c.replay ? "replay" : "script");
@@ -21,6 +22,7 @@ DeviceConfig device_config(const Config& p, double servo_hz) {
   c.spec.servo_hz = servo_hz;
   c.hand.stiffness = p.number("hand_stiffness", c.hand.stiffness, 1, 1e4);
   c.hand.damping = p.number("hand_damping", c.hand.damping, 0, 1e3);
+  c.spec.backdrive_friction = p.number("backdrive_friction", c.spec.backdrive_friction, 0, 1);
   c.passivity = p.on("passivity", c.passivity);
   c.max_damping = p.number("max_damping", c.max_damping, 1e-3, 1e3);
   c.reservoir = p.number("reservoir", c.reservoir, 1e-9, 10);

@@ -12,7 +12,13 @@
 namespace hcosim::adapters::device {
 
 struct WallRig {
-  models::haptic::OmniSpec spec;
+  // Without back-drive friction: it dissipates, and would hide a delayed
+  // wall's buzz and what the passivity controller does about it.
+  models::haptic::OmniSpec spec = [] {
+    models::haptic::OmniSpec s;
+    s.backdrive_friction = 0;
+    return s;
+  }();
   models::haptic::Hand hand;
   models::haptic::Wall wall;  // through the origin, normal +z, by default
   double delay_s = 0;         // force latency, rounded to whole servo ticks

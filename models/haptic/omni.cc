@@ -20,7 +20,10 @@ void check(const OmniSpec& s) {
   need(s.max_stiffness, "max_stiffness");
   need(s.servo_hz, "servo_hz");
   need(s.tip_mass, "tip_mass");
-  if (!(s.tip_damping >= 0)) throw std::invalid_argument("omni: tip_damping must be >= 0");
+  if (!(s.tip_damping >= 0) || !std::isfinite(s.tip_damping))
+    throw std::invalid_argument("omni: tip_damping must be finite and >= 0");
+  if (!(s.backdrive_friction >= 0) || !std::isfinite(s.backdrive_friction))
+    throw std::invalid_argument("omni: backdrive_friction must be finite and >= 0");
 }
 
 Eigen::Vector3d clamp_force(const OmniSpec& spec, const Eigen::Vector3d& f, bool* saturated) {
@@ -37,9 +40,14 @@ Eigen::Vector3d clamp_force(const OmniSpec& spec, const Eigen::Vector3d& f, bool
 
 void step_tip(const OmniSpec& spec, const Hand& hand, const Eigen::Vector3d& target, const Eigen::Vector3d& force,
               double dt, Tip& tip) {
-  // m (v' - v) / dt = k (target - x - dt v') - (b_hand + b_tip) v' + f
+  // m (v' - v) / dt = k (target - x - dt v') - (b_hand + b_tip) v' + f + c,
+  // with c the friction: |c| <= backdrive_friction, against v', and
+  // whatever holds v' = 0 when that is enough.
   const double m = spec.tip_mass, k = hand.stiffness, b = hand.damping + spec.tip_damping;
-  tip.v = (tip.v + dt / m * (k * (target - tip.x) + force)) / (1 + dt * b / m + dt * dt * k / m);
+  Eigen::Vector3d momentum = m * tip.v + dt * (k * (target - tip.x) + force);
+  const double stop = dt * spec.backdrive_friction, p = momentum.norm();
+  momentum *= p > stop ? 1 - stop / p : 0;
+  tip.v = momentum / (m + dt * b + dt * dt * k);
   tip.x += dt * tip.v;
   const Eigen::Vector3d lo = spec.centre - spec.workspace / 2, hi = spec.centre + spec.workspace / 2;
   for (int i = 0; i < 3; ++i)

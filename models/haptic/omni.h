@@ -18,6 +18,13 @@ struct OmniSpec {
   double servo_hz = 1000;                                            // Hz
   double tip_mass = 0.045;                                           // kg, apparent mass at the tip
   double tip_damping = 0.05;                                         // N s/m, back-drive viscous friction
+  // N, >= 0: back-drive Coulomb friction (the Omni's data sheet: under
+  // 0.26 N). It is what lets a stylus held still rest on one encoder count:
+  // with viscous terms alone a contact stiffer than a count's force step
+  // over the hand has no resting point between counts, and the reported
+  // position, and with it the force, steps between two counts for as long
+  // as the press is held.
+  double backdrive_friction = 0.1;
 };
 
 // Throws std::invalid_argument naming the first non-positive or non-finite field.
@@ -43,7 +50,8 @@ struct Tip {
 // Advances the tip by dt under the hand pulling toward `target` and the
 // device's `force`, held over the step (zero-order hold, as a real servo
 // loop does). Hand and back-drive terms are implicit, so any grip is
-// stable; the workspace's walls stop the tip.
+// stable; the back-drive friction sticks the tip while the rest of the
+// forces stay inside it; the workspace's walls stop the tip.
 void step_tip(const OmniSpec& spec, const Hand& hand, const Eigen::Vector3d& target, const Eigen::Vector3d& force,
               double dt, Tip& tip);
 

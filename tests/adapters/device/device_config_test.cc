@@ -15,7 +15,8 @@ TEST(DeviceConfig, ReadsTheBackendAndTheLoop) {
   tests::TempDir dir;
   dir.file("press.yaml", "start: [0, 0, 0.02]\nactions:\n  - hold: {duration: 0.1}\n");
   const Config p = Config::parse(
-      "script: press.yaml\ncentre: [0, 0, 0.1]\nhand_stiffness: 300\npassivity: off\nmax_damping: 5\n"
+      "script: press.yaml\ncentre: [0, 0, 0.1]\nhand_stiffness: 300\nbackdrive_friction: 0\npassivity: "
+      "off\nmax_damping: 5\n"
       "source_timeout: 0.02\nanswer_wait: 0.0005\nreport: out/r.json\n",
       dir.file("d.yaml"), "params");
   const DeviceConfig c = device_config(p, 1000);
@@ -24,6 +25,7 @@ TEST(DeviceConfig, ReadsTheBackendAndTheLoop) {
   EXPECT_EQ(c.spec.centre, Eigen::Vector3d(0, 0, 0.1));
   EXPECT_EQ(c.spec.servo_hz, 1000);
   EXPECT_EQ(c.hand.stiffness, 300);
+  EXPECT_EQ(c.spec.backdrive_friction, 0);
   EXPECT_FALSE(c.passivity);
   EXPECT_EQ(c.max_damping, 5);
   EXPECT_EQ(c.source_timeout, 0.02);
