@@ -35,7 +35,8 @@ ObjectConfig object(const Config& o, double servo_dt, double tip_radius) {
     if (tip_radius >= 0.5 * s.size) o.fail("size", "the object must be wider than the stylus tip (tip_radius)");
     return c;
   }
-  o.allow_only({"name", "model", "centre", "size", "resolution", "stiffness", "damping", "prestretch", "bending"});
+  o.allow_only({"name", "model", "centre", "size", "resolution", "stiffness", "damping", "prestretch", "bending",
+                "friction", "contact_stiffness"});
   models::deformable::SurfaceSpec& s = c.surface;
   s.shape = c.model == "sheet" ? models::deformable::Shape::sheet : models::deformable::Shape::semisphere;
   s.centre = {centre[0], centre[1], centre[2]};
@@ -47,6 +48,8 @@ ObjectConfig object(const Config& o, double servo_dt, double tip_radius) {
   s.material.b = o.number("damping", s.material.b, 0, 1e3);
   s.prestretch = o.number("prestretch", s.prestretch, 0, 0.4);
   s.bending = o.number("bending", s.bending, 0, 1);
+  s.friction = device::friction_config(o);
+  s.contact_stiffness = o.number("contact_stiffness", 5 * s.material.k, 1e-3, 1e6);
   s.options.dt = servo_dt;
   s.tip_radius = tip_radius;
   if (tip_radius >= 0.5 * s.size) o.fail("size", "the object must be wider than the stylus tip (tip_radius)");

@@ -63,13 +63,14 @@ void dome(int rings, double radius, Eigen::Matrix3Xd& x, std::vector<Eigen::Vect
 
 const char* name(Shape s) { return s == Shape::sheet ? "sheet" : "semisphere"; }
 
-ElasticSurface::ElasticSurface(const SurfaceSpec& spec) : spec_(spec) {
+ElasticSurface::ElasticSurface(const SurfaceSpec& spec) : spec_(spec), cone_(spec.friction) {
   need(spec.resolution >= 3 && spec.resolution <= 400, "resolution must be in [3, 400]");
   need(spec.size > 0 && std::isfinite(spec.size), "size must be finite and > 0");
   need(spec.centre.allFinite(), "centre must be finite");
   need(spec.prestretch >= 0 && spec.prestretch < 0.5, "prestretch must be in [0, 0.5)");
   need(spec.tip_radius >= 0 && spec.tip_radius < 0.5 * spec.size, "tip_radius must be in [0, size / 2)");
   need(spec.bending >= 0 && std::isfinite(spec.bending), "bending must be finite and >= 0");
+  need(spec.contact_stiffness > 0 && std::isfinite(spec.contact_stiffness), "contact_stiffness must be finite and > 0");
   const int n = spec.resolution;
   models::massspring::Lattice l;
   if (spec.shape == Shape::sheet) {
@@ -92,22 +93,18 @@ ElasticSurface::ElasticSurface(const SurfaceSpec& spec) : spec_(spec) {
   if (spec.bending > 0)
     models::massspring::add_hinges(l, triangles_, spec.bending,
                                    spec.material.k > 0 ? spec.bending * spec.material.b / spec.material.k : 0);
-  sim_ = std::make_unique<models::massspring::Simulator>(std::move(l), spec.options);
+  substeps_ = models::massspring::Simulator(l, spec.options).substeps();
+  // touch() takes the substeps itself, to solve the contact in each.
+  models::massspring::Options o = spec.options;
+  o.dt /= substeps_;
+  sim_ = std::make_unique<models::massspring::Simulator>(std::move(l), o);
   state_ = models::massspring::rest_state(sim_->lattice());
+  mesh_ = std::make_unique<MeshProxy>(triangles_, sim_->lattice().size());
+  rest_ = touched(sim_->lattice().rest);
 }
 
-Eigen::Vector3d ElasticSurface::rest_normal(int v) const {
-  if (spec_.shape == Shape::sheet) return Eigen::Vector3d::UnitZ();
-  return (sim_->lattice().rest.col(v) - spec_.centre).normalized();
-}
-
-bool ElasticSurface::inside(const Eigen::Vector3d& hip) const {
-  const Eigen::Vector3d p = hip - spec_.centre;
-  if (spec_.shape == Shape::sheet) {
-    const double half = 0.5 * spec_.size;  // below the sheet no deeper than that
-    return std::abs(p.x()) < half && std::abs(p.y()) < half && p.z() < 0 && p.z() > -half;
-  }
-  return p.z() > 0 && p.norm() < spec_.size;
+Eigen::Matrix3Xd ElasticSurface::touched(const Eigen::Matrix3Xd& x) const {
+  return spec_.tip_radius > 0 ? mesh_->grown(x, spec_.tip_radius) : x;
 }
 
 Eigen::AlignedBox3d ElasticSurface::reach() const {
@@ -115,50 +112,131 @@ Eigen::AlignedBox3d ElasticSurface::reach() const {
   const Eigen::Vector3d r = Eigen::Vector3d::Constant(spec_.tip_radius);
   if (spec_.shape == Shape::sheet) {
     const double half = 0.5 * spec_.size;
-    return {c - Eigen::Vector3d(half, half, half) - r, c + Eigen::Vector3d(half, half, 0) + r};
+    return {c - Eigen::Vector3d::Constant(half) - r, c + Eigen::Vector3d(half, half, 0.1 * half) + r};
   }
-  return {c - Eigen::Vector3d(spec_.size, spec_.size, 0) - r, c + Eigen::Vector3d::Constant(spec_.size) + r};
+  const double out = 1.05 * spec_.size;
+  return {c - Eigen::Vector3d(out, out, 0) - r, c + Eigen::Vector3d::Constant(out) + r};
 }
 
-Touch ElasticSurface::touch(double dt, const Eigen::Vector3d& hip_centre, bool grab) {
+Eigen::Vector3d ElasticSurface::proxy() const {
+  return contact_.face < 0 ? last_hip_ : mesh_->point(touched(state_.x), contact_);
+}
+
+Touch ElasticSurface::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
   need(std::isfinite(dt) && std::abs(dt - spec_.options.dt) <= 1e-9 * spec_.options.dt,
        "touch dt must equal the behavior step options.dt");
-  need(hip_centre.allFinite(), "the haptic point must be finite");
-  const models::massspring::Lattice& l = sim_->lattice();
-  // The tip sphere's point nearest the surface: its centre less its radius
-  // along the rest surface's outward normal there.
-  Eigen::Vector3d out = Eigen::Vector3d::UnitZ();
-  if (spec_.shape == Shape::semisphere && (hip_centre - spec_.centre).norm() > 0)
-    out = (hip_centre - spec_.centre).normalized();
-  const Eigen::Vector3d hip = hip_centre - spec_.tip_radius * out;
-  if (contact_ < 0 && inside(hip)) {
-    // The free vertex nearest the HIP's rest-surface projection.
-    double best = 1e300;
-    for (int v = 0; v < l.size(); ++v) {
-      if (sim_->held(v) || l.anchored[v]) continue;
-      const double d = (l.rest.col(v) - hip).squaredNorm();
-      if (d < best) best = d, contact_ = v;
+  need(hip.allFinite(), "the haptic point must be finite");
+  loads_.clear();
+  bool entering = false;  // until the HIP, on its way through the tick, is in
+  const Eigen::Matrix3Xd now = touched(state_.x);
+  if (contact_.face < 0 && reach().contains(hip)) {
+    if (has_last_) contact_ = mesh_->entry(now, last_hip_, hip);
+    entering = contact_.face >= 0;
+    if (!entering) {
+      // No path in. The first HIP seen, already inside, touches at the
+      // surface's nearest point; later, the surface may have come onto
+      // the HIP: a membrane that swung past a still stylus, or one that
+      // left it a tick ago and is coming back.
+      const SurfacePoint p = mesh_->closest(now, hip);
+      if (mesh_->behind(now, p, hip) && (!has_last_ || !mesh_->behind(last_x_, p, last_hip_))) contact_ = p;
     }
-    if (contact_ >= 0) sim_->hold(contact_, true);
-  } else if (contact_ >= 0 && !grab && (hip - l.rest.col(contact_)).dot(rest_normal(contact_)) > 0) {
-    sim_->hold(contact_, false);
-    state_.v.col(contact_).setZero();
-    contact_ = -1;
+    cone_.release();
   }
-  if (contact_ >= 0) {
-    state_.v.col(contact_) = (hip - state_.x.col(contact_)) / dt;
-    state_.x.col(contact_) = hip;
+  const Eigen::Vector3d last = has_last_ ? last_hip_ : hip;
+  last_hip_ = hip, last_x_ = now, has_last_ = true;
+  // The contact is solved once per substep, with the HIP moving on its
+  // straight path through the tick, so that the coupling sees the surface
+  // as the integrator moves it.
+  const double h = dt / substeps_;
+  const Eigen::Vector3d speed = (hip - last) / dt;
+  Eigen::Vector3d force = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::UnitZ();
+  SurfacePoint felt_at;
+  std::vector<models::massspring::PointForce> step_loads;
+  for (int i = 1; i <= substeps_; ++i) {
+    step_loads.clear();
+    const Eigen::Vector3d at = last + (hip - last) * (double(i) / substeps_);
+    if (entering) {
+      const Eigen::Matrix3Xd x = touched(state_.x);
+      entering = (at - mesh_->point(x, contact_)).dot(mesh_->normal(x, contact_)) > 0;
+    }
+    if (contact_.face >= 0 && !entering) felt_at = contact_, force += couple(h, at, speed, grab, &n, step_loads);
+    sim_->step(state_, step_loads);
+    for (const models::massspring::PointForce& p : step_loads) loads_.push_back({p.mass, p.force / substeps_});
   }
-  sim_->step(state_, {});
+  force /= substeps_;
   Touch t;
-  if (contact_ < 0) return t;
-  const Eigen::Vector3d n = rest_normal(contact_);
-  t.in_contact = true;
-  t.force = sim_->spring_force(contact_, state_);
-  t.depth = std::max(0.0, (l.rest.col(contact_) - hip).dot(n));
-  t.stiffness = t.depth > 1e-9 ? std::max(0.0, t.force.dot(n)) / t.depth : 0;
+  if (felt_at.face < 0) return t;
+  t.in_contact = contact_.face >= 0 || !force.isZero();
+  t.force = force;
   t.normal = n;
+  // Depth and secant stiffness against the touched point's rest place.
+  const Eigen::Vector3d rest_n = mesh_->normal(rest_, felt_at);
+  t.depth = std::max(0.0, (mesh_->point(rest_, felt_at) - hip).dot(rest_n));
+  t.stiffness = t.depth > 1e-9 ? std::max(0.0, force.dot(n)) / t.depth : 0;
   return t;
+}
+
+Eigen::Vector3d ElasticSurface::couple(double h, const Eigen::Vector3d& hip, const Eigen::Vector3d& hip_speed,
+                                       bool grab, Eigen::Vector3d* normal,
+                                       std::vector<models::massspring::PointForce>& loads) {
+  const models::massspring::Lattice& l = sim_->lattice();
+  const Eigen::Matrix3Xd x = touched(state_.x);
+  const SurfacePoint at = contact_;  // where this substep's force acts
+  const Eigen::Vector3i& tri = mesh_->triangle(at.face);
+  const Eigen::Vector3d n = mesh_->normal(x, at);
+  *normal = n;
+  // Where the proxy would be, and how fast it would go, after one
+  // symplectic Euler substep with no contact; a load F on it moves it by
+  // h^2 F / m and speeds it up by h F / m, m its mass. (The tip's growth
+  // along the normals is taken as fixed over a substep.)
+  Eigen::Vector3d free = mesh_->point(x, at), speed = Eigen::Vector3d::Zero();
+  double give = 0;  // 1 / kg: the touched point's inverse mass
+  for (int k = 0; k < 3; ++k) {
+    const int i = tri[k];
+    const double b = at.bary[k], inv = l.anchored[i] ? 0 : 1 / l.mass[i];
+    const Eigen::Vector3d pull = inv * sim_->spring_force(i, state_);
+    free += b * (h * state_.v.col(i) + h * h * pull);
+    speed += b * (state_.v.col(i) + h * pull);
+    give += b * b * inv;
+  }
+  // The coupling, a spring-damper between proxy and HIP, solved at the end
+  // of the substep with the surface's answer to it. Its damper stops a
+  // surface from bouncing off the stylus; it is critical for the touched
+  // point's mass, or less where that would make the first instant of
+  // contact kick harder than the spring times the HIP's motion.
+  const double k = spec_.contact_stiffness, a = h * h * give, a_v = h * give;
+  double damper = give > 0 ? 2 * std::sqrt(k / give) : 0;
+  if (k * a_v < 1 / h) damper = std::min(damper, (1 - 1e-9) * k * k * a / (1 / h - k * a_v));
+  // The damper acts along the normal only: sideways, friction is what
+  // drags, and the proxy may slide over material that moves.
+  const Eigen::Vector3d gap = free - hip;
+  const double push = (k * gap.dot(n) + damper * (speed - hip_speed).dot(n)) / (1 + k * a + damper * a_v);
+  Eigen::Vector3d force = push * n + k * (gap - gap.dot(n) * n) / (1 + k * a);
+  if (!grab && push <= 0 && (hip - mesh_->point(x, at)).dot(n) > 0) {
+    // The HIP is back outside, and the surface does not come after it: the
+    // contact ends, and the next entry is looked for from here.
+    contact_ = {};
+    cone_.release();
+    return Eigen::Vector3d::Zero();
+  }
+  if (!grab && push <= 0) {
+    // The surface moves away faster than the HIP follows: it does not
+    // pull (the contact is one-sided), and it is still touched.
+    cone_.release();
+    force.setZero();
+  } else if (!grab) {
+    const haptic::FrictionCone::Grip g = cone_.grip(force, n);
+    force = g.force;
+    if (g.keep < 1) {
+      // Slip: the proxy moves over the faces by the share of the HIP's
+      // tangential offset that friction does not hold.
+      Eigen::Vector3d t = hip - free;
+      t -= t.dot(n) * n;
+      contact_ = mesh_->nearest(x, at, mesh_->point(x, at) + (1 - g.keep) * t);
+    }
+  }
+  for (int v = 0; v < 3; ++v) loads.push_back({tri[v], -at.bary[v] * force});
+  return force;
 }
 
 }  // namespace hcosim::models::deformable

@@ -1,15 +1,18 @@
 // Seed 000's elastic objects (000 §2.2, Fig 7): a plane sheet held in a
 // frame and a semi-sphere on its base ring, mass-spring surfaces with
-// bending hinges (shape memory), touched by the stylus at one vertex. The
-// contacted vertex is held at the haptic point; the springs and hinges
-// around it pass the deformation on, and their pull on it is the force on
-// the stylus. No S-Chain: the behavior model runs at the servo rate.
+// bending hinges (shape memory), touched through a proxy on their faces
+// (models/deformable/proxy.h) coupled to the haptic point by a
+// spring-damper; the surface takes the opposite of the force felt. No
+// S-Chain: the behavior model runs at the servo rate.
 #pragma once
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "models/deformable/object.h"
+#include "models/deformable/proxy.h"
+#include "models/haptic/friction.h"
 #include "models/massspring/simulator.h"
 
 namespace hcosim::models::deformable {
@@ -36,9 +39,18 @@ struct SurfaceSpec {
   // while adding at most one substep at the servo rate; the explicit
   // integrators' stable step falls as 1 / sqrt(D) once bending dominates.
   double bending = 2e-6;
-  // m, >= 0: the stylus tip's; the surface is touched by the tip's sphere,
-  // at the HIP less this along the surface's outward normal.
+  // m, >= 0: the stylus tip's; the surface is touched by the tip's sphere:
+  // the HIP meets the surface grown by this along its vertex normals.
   double tip_radius = 0;
+  haptic::Friction friction;  // the stylus on the surface
+  // N/m, > 0: the coupling between proxy and haptic point (Colgate et al.
+  // 1995), in series with the surface. 5 times the springs' k (the
+  // deformable service's default): the default sheet pressed 4 mm then
+  // pushes back 0.88 of what it would through a 50 times stiffer one, the
+  // dome 0.99, while one encoder count of the Omni (0.055 mm) changes the
+  // force by 5.5 mN. At 2,000 N/m a count changed it by more than a held
+  // press's whole force, a kick that threw the surface off the stylus.
+  double contact_stiffness = 100;
   models::massspring::Options options = [] {
     models::massspring::Options o;
     o.integrator = models::massspring::Integrator::symplectic_euler;
@@ -51,14 +63,18 @@ class ElasticSurface final : public Object {
   // Throws std::invalid_argument for a bad spec.
   explicit ElasticSurface(const SurfaceSpec& spec);
 
-  // The HIP touches when it crosses the rest surface from outside (sheet:
-  // from +z, within the frame; semi-sphere: into the dome); the free vertex
-  // nearest the crossing is held at the HIP until it is back outside that
-  // vertex's rest tangent plane (or, with `grab`, until grab ends). Then
-  // one behavior step. dt must equal options.dt.
+  // The HIP touches where its path from the last tick crosses the current
+  // (grown) surface from outside (sheet: from +z; semi-sphere: from
+  // outside the dome), and stays in contact while the coupling pushes it
+  // out (or, with `grab`, until grab ends: then it pulls too, and sticks).
+  // The coupling is solved in each behavior substep with the touched
+  // point's inertia, so that a light membrane neither runs ahead of the
+  // HIP nor chatters. dt must equal options.dt.
   Touch touch(double dt, const Eigen::Vector3d& hip, bool grab) override;
-  // Where inside() can hold: under the sheet's frame down to half its
-  // edge, or the dome's half ball.
+  // Where a contact can begin: the sheet's frame from half its edge below
+  // to a tenth above (a membrane released swings a little past its
+  // plane), or the dome's half ball grown by a twentieth; each grown by
+  // the tip's radius.
   Eigen::AlignedBox3d reach() const override;
   double behavior_dt() const override { return 0; }
   void couple() override {}
@@ -67,19 +83,43 @@ class ElasticSurface final : public Object {
   Eigen::Matrix3Xd surface_from(const Eigen::Matrix3Xd& cage) const override { return cage; }
   const std::vector<Eigen::Vector3i>& triangles() const override { return triangles_; }
 
+  // The behavior model, stepping one substep of the servo period
+  // (substeps() of them per touch()).
   const models::massspring::Simulator& behavior() const { return *sim_; }
+  int substeps() const { return substeps_; }
   const models::massspring::State& state() const { return state_; }
-  int contact() const { return contact_; }
+  // The proxy's material point (face -1: no contact), its position on the
+  // grown surface, and the loads the last touch() put on the surface (N,
+  // by vertex, averaged over the tick's substeps, a vertex once per
+  // substep; the frame's and base ring's included): their sum is minus the
+  // force felt.
+  const SurfacePoint& contact() const { return contact_; }
+  Eigen::Vector3d proxy() const;
+  const std::vector<models::massspring::PointForce>& loads() const { return loads_; }
 
  private:
-  bool inside(const Eigen::Vector3d& hip) const;
-  Eigen::Vector3d rest_normal(int vertex) const;
+  // The surface the tip's centre touches: the masses' positions grown by
+  // the tip's radius.
+  Eigen::Matrix3Xd touched(const Eigen::Matrix3Xd& x) const;
+  // One substep of h seconds' coupling force for the HIP at `hip` moving
+  // at `hip_speed`: ends, holds or slides the contact, and appends the
+  // load it puts on the touched face's vertices.
+  Eigen::Vector3d couple(double h, const Eigen::Vector3d& hip, const Eigen::Vector3d& hip_speed, bool grab,
+                         Eigen::Vector3d* normal, std::vector<models::massspring::PointForce>& loads);
 
   SurfaceSpec spec_;
   std::unique_ptr<models::massspring::Simulator> sim_;
+  int substeps_ = 1;
   models::massspring::State state_;
   std::vector<Eigen::Vector3i> triangles_;
-  int contact_ = -1;
+  std::unique_ptr<MeshProxy> mesh_;
+  Eigen::Matrix3Xd rest_;  // the touched surface at rest
+  haptic::FrictionCone cone_;
+  SurfacePoint contact_;
+  Eigen::Vector3d last_hip_ = Eigen::Vector3d::Zero();  // the previous tick's, for entry
+  Eigen::Matrix3Xd last_x_;                             // the touched surface then
+  bool has_last_ = false;
+  std::vector<models::massspring::PointForce> loads_;
 };
 
 }  // namespace hcosim::models::deformable

@@ -17,8 +17,8 @@ TEST(DeformableConfig, ReadsEachObjectsSpec) {
              "  - {name: organ, size: 0.06, elements: 5, stiff_ratio: 3, map: trilinear, behavior_rate: 500,"
              " friction: 0.6, volume: 3, behavior: fem, young: 20000, poisson: 0.35, density: 1100}\n"
              "  - {name: skin, model: sheet, size: 0.1, resolution: 12, stiffness: 40, centre: [0, 0, 0.01],"
-             " bending: 0.001}\n"
-             "  - {name: dome, model: semisphere}\n"),
+             " bending: 0.001, friction: {static: 0.5, dynamic: 0.4}}\n"
+             "  - {name: dome, model: semisphere, contact_stiffness: 300}\n"),
       0.001);
   EXPECT_EQ(d.device, "right");
   EXPECT_EQ(d.visual_rate_hz, 60);
@@ -49,6 +49,11 @@ TEST(DeformableConfig, ReadsEachObjectsSpec) {
   EXPECT_EQ(s.material.k, 40);
   EXPECT_EQ(s.centre, Eigen::Vector3d(0, 0, 0.01));
   EXPECT_EQ(s.bending, 0.001);
+  EXPECT_EQ(s.friction.static_mu, 0.5);
+  EXPECT_EQ(s.friction.dynamic_mu, 0.4);
+  EXPECT_EQ(s.contact_stiffness, 5 * 40);  // five times its springs' by default
+  EXPECT_EQ(d.objects[2].surface.contact_stiffness, 300);
+  EXPECT_EQ(d.objects[2].surface.friction.dynamic_mu, 0.3);
   EXPECT_EQ(s.options.dt, 0.001);  // a surface steps with the service
   EXPECT_EQ(d.objects[2].surface.shape, models::deformable::Shape::semisphere);
   EXPECT_EQ(d.objects[2].surface.centre, Eigen::Vector3d::Zero());
