@@ -23,8 +23,8 @@ struct Scenario {
   double tolerance = 0;   // the largest rel_vel_err and rel_angvel_err accepted (docs/rigid.md says why)
 };
 
-// head_on, off_centre, grazing, spinning, cube_face, cube_edge (the tip
-// hits); ball_on_ball, ball_on_cube, cube_on_cube (a body hits another,
+// head_on, off_centre, grazing, inelastic, spinning, cube_face, cube_edge
+// (the tip hits); ball_on_ball, ball_on_cube, cube_on_cube (a body hits another,
 // off its centre line; the cube's vertical edge on a face); and
 // resting_cube (gravity and the marker plane, no tip).
 std::vector<Scenario> scenarios();

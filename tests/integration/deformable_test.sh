@@ -38,8 +38,10 @@ log="$WORK/out/logs/objs.log"
 cube=$(grep "cube:.*ticks in contact" "$log") || fail "no summary for the cube"
 contact=$(echo "$cube" | sed -nE 's/cube: ([0-9]+) ticks in contact.*/\1/p')
 [ "${contact:-0}" -gt 1000 ] || fail "the cube was touched for only ${contact:-0} ticks: $cube"
-echo "$cube" | awk '{ for (i = 1; i <= NF; i++) if ($i == "force") f = $(i + 1) } END { exit !(f > 0.2 && f < 3) }' ||
-  fail "max force on the cube outside 0.2..3 N: $cube"
+# The stylus sticks where the hand's pull exceeds the cube's push by up to
+# the Omni's back-drive friction (0.1 N).
+echo "$cube" | awk '{ for (i = 1; i <= NF; i++) if ($i == "force") f = $(i + 1) } END { exit !(f > 0.1 && f < 3) }' ||
+  fail "max force on the cube outside 0.1..3 N: $cube"
 grep -q "sheet: 0 ticks in contact" "$log" || fail "the untouched sheet reports contact: $(grep sheet: "$log")"
 grep -q '"mesh":"cube"' "$WORK/mesh.log" || fail "no cube mesh on the wire"
 grep -q '"mesh":"sheet"' "$WORK/mesh.log" || fail "no sheet mesh on the wire: every object is published each frame"
