@@ -54,8 +54,8 @@ std::vector<Scenario> scenarios() {
   out.push_back(hit("grazing", Shape::sphere, 0.95 * reach, 0, 1, 0, 0.03));
   // spinning's hit without friction or spin: what MuJoCo's damped soft
   // contact alone makes of an inelastic hit off the centre line.
-  out.push_back(hit("inelastic", Shape::sphere, 0.3 * reach, 0, 0.2, 0, 0.1));
-  Scenario spin = hit("spinning", Shape::sphere, 0.3 * reach, 0, 0.2, 0.3, 0.1);
+  out.push_back(hit("inelastic", Shape::sphere, 0.3 * reach, 0, 0.2, 0, 0.05));
+  Scenario spin = hit("spinning", Shape::sphere, 0.3 * reach, 0, 0.2, 0.3, 0.05);
   spin.bodies[0].w = Eigen::Vector3d(0, 0, 30);
   out.push_back(spin);
   out.push_back(hit("cube_face", Shape::cube, 0.5 * kSize, 0, 1, 0, 0.02));

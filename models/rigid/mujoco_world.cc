@@ -1,8 +1,12 @@
 #include "models/rigid/mujoco_world.h"
 
+#include <algorithm>
 #include <cmath>
+#include <map>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include <mujoco/mujoco.h>
 
@@ -24,24 +28,119 @@ namespace {
 
 constexpr double kMinTipRadius = 1e-4;  // MuJoCo's sphere needs a positive radius
 
-// solref (-stiffness, -damping) for restitution e, lasting `steps` steps
-// per half-period at dt.
-std::string solref(double e, double dt, const MujocoContact& c) {
-  const double k = std::pow(M_PI / (c.contact_steps * dt), 2);
-  const double le = std::log(std::max(e, 1e-6));
-  const double z = e >= 1 ? 0 : -le / std::sqrt(M_PI * M_PI + le * le);
+// A body's geom as the world has it, named `name`, with the joint(s)
+// given.
+std::string body_xml(const Body& b, const std::string& name, const Eigen::Vector3d& at, const std::string& joints,
+                     const std::string& geom_extra = "") {
   std::ostringstream o;
   o.precision(17);
-  o << -k << " " << -2 * z * std::sqrt(k);
+  o << "<body name=\"" << name << "\" pos=\"" << at.x() << " " << at.y() << " " << at.z() << "\">" << joints
+    << "<geom name=\"" << name << "\" type=\"" << (b.shape == Shape::cube ? "box" : "sphere") << "\" size=\"";
+  if (b.shape == Shape::cube) o << b.size << " " << b.size << " ";
+  o << b.size << "\" mass=\"" << b.mass << "\"" << geom_extra << "/></body>";
   return o.str();
 }
 
-std::string pair(const std::string& a, const std::string& b, const Material& m, double dt, const MujocoContact& c) {
+constexpr const char* kFree = "<freejoint/>";
+constexpr const char* kSlides =
+    "<joint type=\"slide\" axis=\"1 0 0\"/><joint type=\"slide\" axis=\"0 1 0\"/>"
+    "<joint type=\"slide\" axis=\"0 0 1\"/>";
+
+// The damping b (1/s) of a contact of stiffness k (solref -k -b) that
+// makes MuJoCo's own head-on hit of two bodies rebound at restitution e.
+// A linear spring-damper of damping ratio z rebounds at
+// exp(-z pi / sqrt(1 - z^2)), but MuJoCo's contact cannot pull, so it lets
+// go before that damper is done, and the share of the reference
+// acceleration it reaches depends on the bodies' inertias, so the same
+// solref rebounds differently for different pairs (with that formula the
+// `inelastic` cross-check was 7 % off the analytic impulse). `world` holds
+// two bodies touching along x, a contact pair "a"-"b" between them; the
+// dof `moving` is sent at 1 m/s into dof `still` (-1: a fixed geom), or
+// -1 m/s if `back`, from a fraction of a step away. The damping is found
+// by bisection, once per model.
+double damping_for(double e, double k, double dt, const MujocoContact& c, const std::string& world, int moving,
+                   int still, bool back) {
+  std::ostringstream o;
+  o.precision(17);
+  o << "<mujoco model=\"rebound\"><option timestep=\"" << dt << "\" integrator=\"Euler\" gravity=\"0 0 0\"/>"
+    << "<default><geom contype=\"0\" conaffinity=\"0\"/></default><worldbody>" << world
+    << "</worldbody><contact><pair geom1=\"a\" geom2=\"b\" condim=\"1\" solref=\"" << -k << " 0\" solimp=\""
+    << c.impedance << " " << c.impedance << " 0.001 0.5 2\"/></contact></mujoco>";
+  static std::mutex mutex;
+  static std::map<std::pair<std::string, double>, double> known;
+  std::lock_guard<std::mutex> lock(mutex);
+  const auto key = std::make_pair(o.str(), e);
+  if (const auto it = known.find(key); it != known.end()) return it->second;
+  mjModel* m = nullptr;
+  mjData* d = nullptr;
+  models::mjcf::load("mujoco world: restitution", o.str(), m, d);
+  const double sign = back ? -1 : 1;
+  const int joint = m->dof_jntid[moving];
+  const int q = m->jnt_qposadr[joint] + moving - m->jnt_dofadr[joint];
+  auto relative = [&] { return sign * (d->qvel[moving] - (still >= 0 ? d->qvel[still] : 0)); };
+  // The rebound of a contact that begins `phase` of a step after a step
+  // boundary: MuJoCo's first step in contact sees up to a step's worth of
+  // penetration, which moves the rebound by several hundredths at 12
+  // steps a half-period, so the mean over 8 phases is what is tuned.
+  auto rebound = [&](double b) {
+    m->pair_solref[1] = -b;
+    double sum = 0;
+    for (int j = 0; j < 8; ++j) {
+      mj_resetData(m, d);
+      d->qpos[q] -= sign * (j + 0.5) / 8 * dt;
+      d->qvel[moving] = sign;
+      // Until 50 steps past the last contact.
+      for (int n = 0, last = 0; n < last + 50 && n < 100000; ++n) {
+        mj_step(m, d);
+        if (d->ncon > 0) last = n;
+      }
+      sum -= relative();
+    }
+    return sum / 8;
+  };
+  // Past b dt = 1 MuJoCo's damping no longer settles within a step and
+  // the rebound grows again: the bracket stays below it.
+  double lo = 0, hi = std::min(8 * std::sqrt(k), 1 / dt);
+  for (int i = 0; i < 50 && hi - lo > 1e-9 * hi; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (rebound(mid) > e ? lo : hi) = mid;
+  }
+  mj_deleteData(d);
+  mj_deleteModel(m);
+  return known[key] = 0.5 * (lo + hi);
+}
+
+// The contact's stiffness (1/s^2): a half-period of `steps` steps at dt.
+double stiffness(double dt, const MujocoContact& c) { return std::pow(M_PI / (c.contact_steps * dt), 2); }
+
+// solref (-stiffness, -damping) for restitution e between the bodies of
+// `world` (damping_for); e = 1: no damping.
+std::string solref(double e, double dt, const MujocoContact& c, const std::string& world, int moving, int still,
+                   bool back = false) {
+  const double k = stiffness(dt, c);
+  std::ostringstream o;
+  o.precision(17);
+  o << -k << " " << -(e < 1 ? damping_for(e, k, dt, c, world, moving, still, back) : 0.0);
+  return o.str();
+}
+
+std::string solimp(const MujocoContact& c) {
+  std::ostringstream o;
+  o.precision(17);
+  o << c.impedance << " " << c.impedance << " 0.001 0.5 2";
+  return o.str();
+}
+
+// How far a body reaches from its centre along x (and z): its radius, or
+// its half-size.
+double extent(const Body& b) { return b.size; }
+
+std::string pair(const std::string& a, const std::string& b, const Material& m, const std::string& ref,
+                 const MujocoContact& c) {
   std::ostringstream o;
   o.precision(17);
   o << "<pair geom1=\"" << a << "\" geom2=\"" << b << "\" condim=\"" << (m.friction > 0 ? 3 : 1) << "\" friction=\""
-    << m.friction << " " << m.friction << " 0 0 0\" solref=\"" << solref(m.restitution, dt, c) << "\" solimp=\""
-    << c.impedance << " " << c.impedance << " 0.001 0.5 2\"/>\n";
+    << m.friction << " " << m.friction << " 0 0 0\" solref=\"" << ref << "\" solimp=\"" << solimp(c) << "\"/>\n";
   return o.str();
 }
 
@@ -60,6 +159,16 @@ std::string MujocoWorld::xml(const WorldSpec& spec, const std::vector<Body>& bod
     << " " << spec.gravity.z() << "\"/>\n"
     << "<default><geom contype=\"0\" conaffinity=\"0\"/></default>\n<worldbody>\n";
   if (spec.ground) o << "<geom name=\"floor\" type=\"plane\" size=\"0 0 1\"/>\n";
+  // Body against body: one solref on every body geom (MuJoCo's own
+  // filter pairs them), tuned on two of the first body.
+  std::string pair_ref;
+  if (!bodies.empty()) {
+    const Body& b = bodies[0];
+    pair_ref = solref(spec.pair.restitution, dt, c,
+                      body_xml(b, "a", Eigen::Vector3d::Zero(), kFree) +
+                          body_xml(b, "b", Eigen::Vector3d(-2 * extent(b), 0, 0), kFree),
+                      6, 0);
+  }
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     const Body& b = bodies[i];
     o << "<body name=\"b" << i << "\" pos=\"" << b.x.x() << " " << b.x.y() << " " << b.x.z() << "\" quat=\"" << b.q.w()
@@ -71,18 +180,29 @@ std::string MujocoWorld::xml(const WorldSpec& spec, const std::vector<Body>& bod
     // with the pair material on every body geom, so that n bodies need no
     // n^2 explicit pairs.
     o << b.size << "\" mass=\"" << b.mass << "\" contype=\"2\" conaffinity=\"2\" condim=\""
-      << (spec.pair.friction > 0 ? 3 : 1) << "\" friction=\"" << spec.pair.friction << " 0 0\" solref=\""
-      << solref(spec.pair.restitution, dt, c) << "\" solimp=\"" << c.impedance << " " << c.impedance
-      << " 0.001 0.5 2\"/></body>\n";
+      << (spec.pair.friction > 0 ? 3 : 1) << "\" friction=\"" << spec.pair.friction << " 0 0\" solref=\"" << pair_ref
+      << "\" solimp=\"" << solimp(c) << "\"/></body>\n";
   }
   o << "<body name=\"tip\"><joint type=\"slide\" axis=\"1 0 0\"/><joint type=\"slide\" axis=\"0 1 0\"/>"
     << "<joint type=\"slide\" axis=\"0 0 1\"/><geom name=\"tip\" type=\"sphere\" size=\""
     << std::max(spec.tip_radius, kMinTipRadius) << "\" mass=\"" << spec.tip_mass
     << "\"/></body>\n</worldbody>\n<contact>\n";
+  const double tip_r = std::max(spec.tip_radius, kMinTipRadius);
+  Body tip;
+  tip.shape = Shape::sphere, tip.size = tip_r, tip.mass = spec.tip_mass;
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     const std::string g = "g" + std::to_string(i);
-    o << pair("tip", g, spec.tip, dt, c);
-    if (spec.ground) o << pair("floor", g, spec.floor, dt, c);
+    const Body& b = bodies[i];
+    // The tip's own head-on hit on this body (on a face's centre), and the
+    // body dropped flat on the plane.
+    const std::string tip_world = body_xml(b, "a", Eigen::Vector3d::Zero(), kFree) +
+                                  body_xml(tip, "b", Eigen::Vector3d(-extent(b) - tip_r, 0, 0), kSlides);
+    o << pair("tip", g, spec.tip, solref(spec.tip.restitution, dt, c, tip_world, 6, 0), c);
+    if (spec.ground) {
+      const std::string floor_world = "<geom name=\"a\" type=\"plane\" size=\"0 0 1\"/>" +
+                                      body_xml(b, "b", Eigen::Vector3d(0, 0, extent(b)), kFree);
+      o << pair("floor", g, spec.floor, solref(spec.floor.restitution, dt, c, floor_world, 2, -1, true), c);
+    }
   }
   o << "</contact>\n</mujoco>\n";
   return o.str();

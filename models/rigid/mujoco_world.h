@@ -23,8 +23,8 @@
 namespace hcosim::models::rigid {
 
 struct MujocoContact {
-  double contact_steps = 8;  // steps per contact half-period, >= 2
-  double impedance = 0.9;    // solimp d0 = dwidth, in (0, 1)
+  double contact_steps = 12;  // steps per contact half-period, >= 2
+  double impedance = 0.9;     // solimp d0 = dwidth, in (0, 1)
 };
 
 class MujocoWorld {
