@@ -193,7 +193,7 @@ bool run_once(const Context& c, const Kind& k, const fs::path& dir) {
                                      << ", rate: 1000, params: {device: omni}}\n";
   const fs::path rec = dir / "run.rec", log = dir / "up.log";
   const pid_t pid = start_up(dir / "deploy.yaml", dir / "out", log, rec);
-  const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(int(40 + 10 * k.duration));
+  const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(int(30 + 5 * k.duration));
   int status = 0;
   while (waitpid(pid, &status, WNOHANG) == 0) {
     if (std::chrono::steady_clock::now() > limit) {
@@ -219,6 +219,18 @@ fs::path run(const Context& c, const Kind& k, int& stalled) {
     if (run_once(c, k, dir)) return dir / "run.rec";
     ++stalled;
     progress("contact: " + k.name + " stalled past its limit (" + (dir / "up.log").string() + "); again");
+    // What each service said of it: its first unacknowledged step, and
+    // how many (what a fix of the stall needs; the run's folder may not
+    // outlive a test).
+    if (fs::is_directory(dir / "out" / "logs"))
+      for (const auto& log : fs::directory_iterator(dir / "out" / "logs")) {
+        std::ifstream in(log.path());
+        std::string line, first;
+        int count = 0;
+        while (std::getline(in, line))
+          if (line.find("not acknowledged") != std::string::npos && count++ == 0) first = line;
+        if (count > 0) progress("contact:   " + first + " (" + std::to_string(count) + " such steps)");
+      }
     fs::rename(dir, dir.string() + ".stalled" + std::to_string(attempt));
   }
   throw std::runtime_error("contact: " + k.name + " stalled three times; " + dir.string() + ".stalled*");
