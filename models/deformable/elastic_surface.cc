@@ -14,6 +14,13 @@ void need(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("elastic surface: " + what);
 }
 
+// An untouched surface whose every mass is this close to rest and this
+// slow is put at rest and no longer stepped: a nanometre is far below what
+// a display or a hand resolves, and a released membrane gets there within
+// seconds (its recovery tests need 0.1 mm).
+constexpr double kRestOffset = 1e-9;  // m
+constexpr double kRestSpeed = 1e-6;   // m/s
+
 // A hemisphere of `radius` over z = 0 whose triangles are near-equal:
 // `rings` latitude rings, the base ring first, ring r at polar angle
 // (pi/2)(1 - r/rings) with 4 rings sin(polar) masses (at least 3), then the
@@ -101,6 +108,7 @@ ElasticSurface::ElasticSurface(const SurfaceSpec& spec) : spec_(spec), cone_(spe
   state_ = models::massspring::rest_state(sim_->lattice());
   mesh_ = std::make_unique<MeshProxy>(triangles_, sim_->lattice().size());
   rest_ = touched(sim_->lattice().rest);
+  last_x_ = rest_;
 }
 
 Eigen::Matrix3Xd ElasticSurface::touched(const Eigen::Matrix3Xd& x) const {
@@ -128,7 +136,7 @@ Touch ElasticSurface::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
   need(hip.allFinite(), "the haptic point must be finite");
   loads_.clear();
   bool entering = false;  // until the HIP, on its way through the tick, is in
-  const Eigen::Matrix3Xd now = touched(state_.x);
+  const Eigen::Matrix3Xd& now = resting_ ? rest_ : (now_ = touched(state_.x));
   if (contact_.face < 0 && reach().contains(hip)) {
     if (has_last_) contact_ = mesh_->entry(now, last_hip_, hip);
     entering = contact_.face >= 0;
@@ -143,7 +151,15 @@ Touch ElasticSurface::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
     cone_.release();
   }
   const Eigen::Vector3d last = has_last_ ? last_hip_ : hip;
-  last_hip_ = hip, last_x_ = now, has_last_ = true;
+  last_hip_ = hip, has_last_ = true;
+  if (resting_ && contact_.face < 0) {
+    // Untouched and at rest: nothing to step (the surface is rest_, and
+    // last_x_ is too).
+    state_.t += dt;
+    return Touch{};
+  }
+  resting_ = false;
+  last_x_ = now;
   // The contact is solved once per substep, with the HIP moving on its
   // straight path through the tick, so that the coupling sees the surface
   // as the integrator moves it.
@@ -165,6 +181,15 @@ Touch ElasticSurface::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
   }
   force /= substeps_;
   Touch t;
+  if (contact_.face < 0 && (state_.x - sim_->lattice().rest).cwiseAbs().maxCoeff() < kRestOffset &&
+      state_.v.cwiseAbs().maxCoeff() < kRestSpeed) {
+    // Back at rest: put it there exactly, and stop stepping it until it
+    // is touched again.
+    state_.x = sim_->lattice().rest;
+    state_.v.setZero();
+    last_x_ = rest_;
+    resting_ = true;
+  }
   if (felt_at.face < 0) return t;
   t.in_contact = contact_.face >= 0 || !force.isZero();
   t.force = force;

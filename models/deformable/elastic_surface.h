@@ -95,6 +95,9 @@ class ElasticSurface final : public Object {
   // force felt.
   const SurfacePoint& contact() const { return contact_; }
   Eigen::Vector3d proxy() const;
+  // Untouched, and put back at rest exactly once every mass was within a
+  // nanometre and a micrometre a second of it: touch() then steps nothing.
+  bool resting() const { return resting_; }
   const std::vector<models::massspring::PointForce>& loads() const { return loads_; }
 
  private:
@@ -118,6 +121,10 @@ class ElasticSurface final : public Object {
   SurfacePoint contact_;
   Eigen::Vector3d last_hip_ = Eigen::Vector3d::Zero();  // the previous tick's, for entry
   Eigen::Matrix3Xd last_x_;                             // the touched surface then
+  Eigen::Matrix3Xd now_;                                // the touched surface now, while it moves
+  // At rest and untouched: touch() steps nothing (an untouched membrane
+  // would otherwise cost its whole behavior step every servo tick).
+  bool resting_ = true;
   bool has_last_ = false;
   std::vector<models::massspring::PointForce> loads_;
 };

@@ -61,9 +61,13 @@ TEST(ElasticSurface, SheetPressedPushesBackAndRecovers) {  // 000 §2.2
   // The proxy is on the surface, above the HIP by the coupling's stretch.
   const Eigen::Vector3d hip(0.0013, 0.0007, -0.01);
   EXPECT_NEAR((sheet.proxy() - hip).z(), t.force.z() / sheet_spec().contact_stiffness, 1e-6);
+  EXPECT_FALSE(sheet.resting());
   for (int k = 0; k < 5000; ++k) sheet.touch(kDt, Eigen::Vector3d(0, 0, 0.05), false);
   EXPECT_EQ(sheet.contact().face, -1);
-  EXPECT_LT((sheet.state().x - sheet.behavior().lattice().rest).cwiseAbs().maxCoeff(), 1e-6);
+  // Back at rest exactly, and no longer stepped until touched again.
+  EXPECT_TRUE(sheet.resting());
+  EXPECT_EQ(sheet.state().x, sheet.behavior().lattice().rest);
+  EXPECT_TRUE(sheet.state().v.isZero());
   EXPECT_THROW(sheet.touch(2e-3, Eigen::Vector3d::Zero(), false), std::invalid_argument);
 }
 
