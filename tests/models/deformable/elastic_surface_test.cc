@@ -227,7 +227,7 @@ TEST(ElasticSurface, TheCouplingLeavesTheSurfacesForce) {
         ElasticSurface o(s);
         const double top = shape == Shape::sheet ? 0 : s.size;
         Touch t;
-        for (int k = 0; k < 3000; ++k)
+        for (int k = 0; k < 1500; ++k)
           t = o.touch(kDt, Eigen::Vector3d(0.0013, 0.0007, top + 0.002 - 0.006 * std::min(1.0, k / 400.0)), false);
         return t.force.z();
       };
