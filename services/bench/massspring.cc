@@ -26,7 +26,8 @@
 // (models/fem) of that solid, of the lattice's mass and mass damping drag / m,
 // on a mesh refined `refinement` times and stepped by the trapezoidal
 // rule at 0.1 ms, is the reference. The top face's centre 2 x 2 cm patch is
-// pressed with 0.2 N for 0.1 s, then let go; rel_error as for `step`, at
+// pressed with 0.2 N for 0.1 s, then let go (scene `press`; without
+// --quick also pulled up so, scene `pull`); rel_error as for `step`, at
 // the lattice's masses (the fine mesh's nodes in the same places). The
 // `fem_reference` row reports the reference's own change when its mesh is
 // one refinement coarser (ref_space_error) and its step twice as long
@@ -347,11 +348,19 @@ std::vector<Row> recovery_rows(const Context& c) {
 constexpr int kCells = 4;
 constexpr double kSpacing = 0.01, kPressN = 0.2;
 
-// The press on a box of `per_edge` nodes `spacing` apart: kPressN down,
+// The seed's scenes on the cube's top (press, pull; each then released):
+// the load's sign along z.
+struct TopLoad {
+  const char* name;
+  double sign;
+};
+constexpr TopLoad kPressLoad{"press", -1}, kPullLoad{"pull", 1};
+
+// The load of `scene` on a box of nodes `spacing` apart: kPressN along z,
 // spread over the top face's centre patch (two cells of kSpacing a side)
-// by trapezoid weights along x and y, so that every refinement presses the
+// by trapezoid weights along x and y, so that every refinement loads the
 // same area the same way.
-std::vector<ms::PointForce> patch_press(const Eigen::Matrix3Xd& rest, double spacing) {
+std::vector<ms::PointForce> patch_load(const Eigen::Matrix3Xd& rest, double spacing, const TopLoad& scene) {
   const double top = rest.row(2).maxCoeff(), centre = 0.5 * kCells * kSpacing;
   auto weight = [&](double t) {
     const double d = std::abs(t - centre);
@@ -363,7 +372,7 @@ std::vector<ms::PointForce> patch_press(const Eigen::Matrix3Xd& rest, double spa
     const double w = rest(2, i) > top - 1e-9 ? weight(rest(0, i)) * weight(rest(1, i)) : 0;
     if (w > 0) loads.push_back({i, Eigen::Vector3d(0, 0, w)}), sum += w;
   }
-  for (ms::PointForce& p : loads) p.force *= -kPressN / sum;
+  for (ms::PointForce& p : loads) p.force *= scene.sign * kPressN / sum;
   return loads;
 }
 
@@ -415,31 +424,31 @@ FemCube fem_cube(int r) {
   return c;
 }
 
-// The FEM cube refined `r` times, stepped at dt by `scheme`; samples at
-// the lattice's masses.
-Trace run_fem(int r, double dt, fem::Scheme scheme) {
+// The FEM cube refined `r` times under `scene`, stepped at dt by
+// `scheme`; samples at the lattice's masses.
+Trace run_fem(int r, double dt, fem::Scheme scheme, const TopLoad& scene) {
   const FemCube c = fem_cube(r);
   fem::Options o;
   o.dt = dt, o.scheme = scheme;
   fem::Corotational f(c.mesh, continuum(cube_material()), o);
   ms::State s = fem::rest_state(c.mesh);
-  const std::vector<ms::PointForce> press = patch_press(c.mesh.rest, kSpacing / r), none;
+  const std::vector<ms::PointForce> load = patch_load(c.mesh.rest, kSpacing / r, scene), none;
   return timeline(
-      dt, [&](bool loaded) { f.step(s, loaded ? press : none); }, [&] { return c.sample(s.x); });
+      dt, [&](bool loaded) { f.step(s, loaded ? load : none); }, [&] { return c.sample(s.x); });
 }
 
-// The positions at the lattice's masses once the press has settled
-// (quasi-static: implicit steps of 1 s), for the springs or the FEM
-// refined r times (r = 0: the springs).
-Eigen::Matrix3Xd settled(int r) {
+// The positions at the lattice's masses once the scene's load has
+// settled (quasi-static: implicit steps of 1 s), for the springs or the
+// FEM refined r times (r = 0: the springs).
+Eigen::Matrix3Xd settled(int r, const TopLoad& scene) {
   if (r == 0) {
     const ms::Lattice l = cube_lattice();
     ms::Options o;
     o.integrator = ms::Integrator::implicit_euler, o.dt = 1, o.tolerance = 1e-10;
     ms::Simulator sim(l, o);
     ms::State s = ms::rest_state(l);
-    const std::vector<ms::PointForce> press = patch_press(l.rest, kSpacing);
-    for (int k = 0; k < 200; ++k) sim.step(s, press);
+    const std::vector<ms::PointForce> load = patch_load(l.rest, kSpacing, scene);
+    for (int k = 0; k < 200; ++k) sim.step(s, load);
     return s.x;
   }
   const FemCube c = fem_cube(r);
@@ -447,8 +456,8 @@ Eigen::Matrix3Xd settled(int r) {
   o.dt = 1, o.tolerance = 1e-10;
   fem::Corotational f(c.mesh, continuum(cube_material()), o);
   ms::State s = fem::rest_state(c.mesh);
-  const std::vector<ms::PointForce> press = patch_press(c.mesh.rest, kSpacing / r);
-  for (int k = 0; k < 100; ++k) f.step(s, press);
+  const std::vector<ms::PointForce> load = patch_load(c.mesh.rest, kSpacing / r, scene);
+  for (int k = 0; k < 100; ++k) f.step(s, load);
   return c.sample(s.x);
 }
 
@@ -461,18 +470,21 @@ double trace_error(const Trace& got, const Trace& ref, const Eigen::Matrix3Xd& r
   return std::sqrt(num / den);
 }
 
-std::vector<Row> fem_rows(const Context& c) {
+// One scene's rows of against_fem, fem_reference and against_fem_static,
+// each with its `scene` param last.
+std::vector<Row> fem_rows(const Context& c, const TopLoad& scene) {
   const int refinement = c.quick ? 3 : 4;
   const double ref_dt = 1e-4;
-  progress("massspring against_fem: the FEM reference, refinement " + std::to_string(refinement));
-  const Trace ref = run_fem(refinement, ref_dt, fem::Scheme::trapezoidal);
-  const Trace coarser = run_fem(refinement - 1, ref_dt, fem::Scheme::trapezoidal);
-  const Trace longer = run_fem(refinement, 2 * ref_dt, fem::Scheme::trapezoidal);
+  const std::string what = std::string("massspring against_fem, ") + scene.name + ": ";
+  progress(what + "the FEM reference, refinement " + std::to_string(refinement));
+  const Trace ref = run_fem(refinement, ref_dt, fem::Scheme::trapezoidal, scene);
+  const Trace coarser = run_fem(refinement - 1, ref_dt, fem::Scheme::trapezoidal, scene);
+  const Trace longer = run_fem(refinement, 2 * ref_dt, fem::Scheme::trapezoidal, scene);
   const ms::Lattice l = cube_lattice();
   const fem::Material cont = continuum(cube_material());
   std::vector<Row> rows;
-  progress("massspring against_fem: settled presses");
-  const Eigen::Matrix3Xd still = settled(refinement), still_coarser = settled(refinement - 1);
+  progress(what + "settled loads");
+  const Eigen::Matrix3Xd still = settled(refinement, scene), still_coarser = settled(refinement - 1, scene);
   auto static_error = [&](const Eigen::Matrix3Xd& x) { return (x - still).norm() / (still - l.rest).norm(); };
   rows.push_back({"fem_reference",
                   {{"cells", double(kCells)},
@@ -486,7 +498,7 @@ std::vector<Row> fem_rows(const Context& c) {
                    {"ref_time_error", trace_error(longer, ref, l.rest)},
                    {"ref_static_error", static_error(still_coarser)},
                    {"ms_per_sim_s", ref.wall_s * 1e3 / kDuration}}});
-  const std::vector<ms::PointForce> press = patch_press(l.rest, kSpacing), none;
+  const std::vector<ms::PointForce> load = patch_load(l.rest, kSpacing, scene), none;
   auto add = [&](const std::string& model, const std::string& integrator, double dt, double threshold, const Trace& t) {
     rows.push_back({"against_fem",
                     {{"model", model}, {"integrator", integrator}, {"dt", dt}, {"threshold", threshold}},
@@ -508,14 +520,14 @@ std::vector<Row> fem_rows(const Context& c) {
     o.integrator = cf.integrator, o.dt = cf.dt, o.threshold = cf.threshold;
     const double dt = cf.dt;
     if (std::abs(kSample / dt - std::round(kSample / dt)) > 1e-9) continue;
-    progress(std::string("massspring against_fem: ") + ms::name(cf.integrator) + ", dt " + fmt(dt));
+    progress(what + ms::name(cf.integrator) + ", dt " + fmt(dt));
     Trace t = measure(
         [&] {
           ms::Simulator sim(l, o);
           ms::State st = ms::rest_state(l);
           int substeps = 1;
           Trace tr = timeline(
-              dt, [&](bool loaded) { substeps = std::max(substeps, sim.step(st, loaded ? press : none).substeps); },
+              dt, [&](bool loaded) { substeps = std::max(substeps, sim.step(st, loaded ? load : none).substeps); },
               [&] { return st.x; });
           tr.substeps = substeps;
           return tr;
@@ -528,8 +540,7 @@ std::vector<Row> fem_rows(const Context& c) {
   const Eigen::VectorXd masses = l.mass;
   for (const double stiffness : {0.1, 0.5, 1.0})
     for (const int iterations : {1, 4, 16}) {
-      progress("massspring against_fem: Bullet's soft body, kLST " + fmt(stiffness) + ", " +
-               std::to_string(iterations) + " iterations");
+      progress(what + "Bullet's soft body, kLST " + fmt(stiffness) + ", " + std::to_string(iterations) + " iterations");
       BulletSoftSettings bs;
       bs.stiffness = stiffness, bs.iterations = iterations, bs.dt = 1e-3;
       bs.damping = cube_material().drag / cube_material().mass * bs.dt;
@@ -537,7 +548,7 @@ std::vector<Row> fem_rows(const Context& c) {
           [&] {
             BulletSoft body(l.rest, ms::box_tetrahedra(kCells + 1, kCells + 1, kCells + 1), masses, l.anchored, bs);
             return timeline(
-                bs.dt, [&](bool loaded) { body.step(loaded ? press : none); }, [&] { return body.positions(); });
+                bs.dt, [&](bool loaded) { body.step(loaded ? load : none); }, [&] { return body.positions(); });
           },
           3);
       rows.push_back({"against_fem",
@@ -554,11 +565,11 @@ std::vector<Row> fem_rows(const Context& c) {
   for (const int r : {0, 1})
     rows.push_back({"against_fem_static",
                     {{"model", std::string(r == 0 ? "springs" : "fem")}},
-                    {{"rel_error", static_error(settled(r))}}});
+                    {{"rel_error", static_error(settled(r, scene))}}});
   for (const fem::Scheme scheme : {fem::Scheme::implicit_euler, fem::Scheme::trapezoidal}) {
     const char* name = scheme == fem::Scheme::trapezoidal ? "trapezoidal" : "implicit_euler";
-    progress(std::string("massspring against_fem: the FEM on the lattice's nodes, ") + name);
-    add("fem", name, 1e-3, 0, measure([&] { return run_fem(1, 1e-3, scheme); }, 3));
+    progress(what + "the FEM on the lattice's nodes, " + name);
+    add("fem", name, 1e-3, 0, measure([&] { return run_fem(1, 1e-3, scheme, scene); }, 3));
   }
   // Each Bullet row: its time over that of our fastest row (springs or
   // FEM) whose error is no larger; 0 where none of ours is as close.
@@ -579,6 +590,16 @@ std::vector<Row> fem_rows(const Context& c) {
           match += (match.empty() ? "" : " ") + k + "=" + text(v);
     b.params.push_back({"matched_by", match});
   }
+  for (Row& r : rows) r.params.push_back({"scene", std::string(scene.name)});
+  return rows;
+}
+
+// against_fem's scenes: the press (and release), and with the full run the
+// pull too.
+std::vector<Row> fem_rows(const Context& c) {
+  std::vector<Row> rows = fem_rows(c, kPressLoad);
+  if (!c.quick)
+    for (Row& r : fem_rows(c, kPullLoad)) rows.push_back(std::move(r));
   return rows;
 }
 
@@ -690,11 +711,12 @@ Suite massspring_suite() {
                "and twice the step (ref_time_error), its settled press's change with one refinement less "
                "(ref_static_error), and its wall ms per simulated s."},
               {"against_fem_static",
-               "The same press settled (quasi-static): the positions' relative error from the reference's settled "
-               "press at the masses, for the springs and for the FEM on the lattice's own nodes."},
+               "The same load settled (quasi-static): the positions' relative error from the reference's settled "
+               "load at the masses, for the springs and for the FEM on the lattice's own nodes, per `scene`."},
               {"against_fem",
                "A 4 cm cube of 5^3 masses (springs along the edges and both face diagonals, floor anchored), its "
-               "top's centre 2 x 2 cm patch pressed with 0.2 N for 0.1 s then let go, 0.2 s simulated: the "
+               "top's centre 2 x 2 cm patch pressed (`scene` press) or, without --quick, also pulled up (pull) "
+               "with 0.2 N for 0.1 s then let go, 0.2 s simulated: the "
                "positions' relative error from the FEM reference at the masses, every 20 ms, per behavior model "
                "(`springs`: the mass-spring lattice; `fem`: the FEM on the lattice's own nodes; `bullet`: Bullet "
                "3.24's btSoftBody with a link along every tetrahedron edge, over its stiffness coefficient kLST and "
