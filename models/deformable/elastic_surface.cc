@@ -115,6 +115,12 @@ Eigen::Matrix3Xd ElasticSurface::touched(const Eigen::Matrix3Xd& x) const {
   return spec_.tip_radius > 0 ? mesh_->grown(x, spec_.tip_radius) : x;
 }
 
+const Eigen::Matrix3Xd& ElasticSurface::touched_now() {
+  if (spec_.tip_radius == 0) return state_.x;
+  now_ = mesh_->grown(state_.x, spec_.tip_radius);
+  return now_;
+}
+
 Eigen::AlignedBox3d ElasticSurface::reach() const {
   const Eigen::Vector3d& c = spec_.centre;
   const Eigen::Vector3d r = Eigen::Vector3d::Constant(spec_.tip_radius);
@@ -136,7 +142,7 @@ Touch ElasticSurface::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
   need(hip.allFinite(), "the haptic point must be finite");
   loads_.clear();
   bool entering = false;  // until the HIP, on its way through the tick, is in
-  const Eigen::Matrix3Xd& now = resting_ ? rest_ : (now_ = touched(state_.x));
+  const Eigen::Matrix3Xd& now = resting_ ? rest_ : touched_now();
   if (contact_.face < 0 && reach().contains(hip)) {
     if (has_last_) contact_ = mesh_->entry(now, last_hip_, hip);
     entering = contact_.face >= 0;
@@ -167,17 +173,16 @@ Touch ElasticSurface::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
   const Eigen::Vector3d speed = (hip - last) / dt;
   Eigen::Vector3d force = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::UnitZ();
   SurfacePoint felt_at;
-  std::vector<models::massspring::PointForce> step_loads;
   for (int i = 1; i <= substeps_; ++i) {
-    step_loads.clear();
+    step_loads_.clear();
     const Eigen::Vector3d at = last + (hip - last) * (double(i) / substeps_);
     if (entering) {
-      const Eigen::Matrix3Xd x = touched(state_.x);
+      const Eigen::Matrix3Xd& x = touched_now();
       entering = (at - mesh_->point(x, contact_)).dot(mesh_->normal(x, contact_)) > 0;
     }
-    if (contact_.face >= 0 && !entering) felt_at = contact_, force += couple(h, at, speed, grab, &n, step_loads);
-    sim_->step(state_, step_loads);
-    for (const models::massspring::PointForce& p : step_loads) loads_.push_back({p.mass, p.force / substeps_});
+    if (contact_.face >= 0 && !entering) felt_at = contact_, force += couple(h, at, speed, grab, &n, step_loads_);
+    sim_->step(state_, step_loads_);
+    for (const models::massspring::PointForce& p : step_loads_) loads_.push_back({p.mass, p.force / substeps_});
   }
   force /= substeps_;
   Touch t;
@@ -205,7 +210,7 @@ Eigen::Vector3d ElasticSurface::couple(double h, const Eigen::Vector3d& hip, con
                                        bool grab, Eigen::Vector3d* normal,
                                        std::vector<models::massspring::PointForce>& loads) {
   const models::massspring::Lattice& l = sim_->lattice();
-  const Eigen::Matrix3Xd x = touched(state_.x);
+  const Eigen::Matrix3Xd& x = touched_now();
   const SurfacePoint at = contact_;  // where this substep's force acts
   const Eigen::Vector3i& tri = mesh_->triangle(at.face);
   const Eigen::Vector3d n = mesh_->normal(x, at);

@@ -104,6 +104,9 @@ class ElasticSurface final : public Object {
   // The surface the tip's centre touches: the masses' positions grown by
   // the tip's radius.
   Eigen::Matrix3Xd touched(const Eigen::Matrix3Xd& x) const;
+  // The same of the current state, without a copy when the tip is a point
+  // (in now_ otherwise): what the servo loop reads every substep.
+  const Eigen::Matrix3Xd& touched_now();
   // One substep of h seconds' coupling force for the HIP at `hip` moving
   // at `hip_speed`: ends, holds or slides the contact, and appends the
   // load it puts on the touched face's vertices.
@@ -119,9 +122,10 @@ class ElasticSurface final : public Object {
   Eigen::Matrix3Xd rest_;  // the touched surface at rest
   haptic::FrictionCone cone_;
   SurfacePoint contact_;
-  Eigen::Vector3d last_hip_ = Eigen::Vector3d::Zero();  // the previous tick's, for entry
-  Eigen::Matrix3Xd last_x_;                             // the touched surface then
-  Eigen::Matrix3Xd now_;                                // the touched surface now, while it moves
+  Eigen::Vector3d last_hip_ = Eigen::Vector3d::Zero();      // the previous tick's, for entry
+  Eigen::Matrix3Xd last_x_;                                 // the touched surface then
+  Eigen::Matrix3Xd now_;                                    // the touched surface now, with a tip radius
+  std::vector<models::massspring::PointForce> step_loads_;  // one substep's, kept for its storage
   // At rest and untouched: touch() steps nothing (an untouched membrane
   // would otherwise cost its whole behavior step every servo tick).
   bool resting_ = true;
