@@ -36,7 +36,7 @@
 # start-up delays; every other integration test starts services through
 # the same code) and
 # Hybrid.AStrokeFeelsItsFrictionAndNoMore (140 s: six strokes; the
-# friction cone's code runs in the other Hybrid tests), and, at 9f696ea
+# friction cone's code runs in the other Hybrid tests), and, at b4d2fe7
 # (then 400 s in all), the hybrid's steady hold and its stepwise press (44
 # and 38 s: Hybrid.EnteringBetweenNodesIsFeltAlongTheNormal and the organ's
 # hundred directions run the same proxy and loads) and the elastic
