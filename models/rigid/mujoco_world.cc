@@ -30,14 +30,13 @@ constexpr double kMinTipRadius = 1e-4;  // MuJoCo's sphere needs a positive radi
 
 // A body's geom as the world has it, named `name`, with the joint(s)
 // given.
-std::string body_xml(const Body& b, const std::string& name, const Eigen::Vector3d& at, const std::string& joints,
-                     const std::string& geom_extra = "") {
+std::string body_xml(const Body& b, const std::string& name, const Eigen::Vector3d& at, const std::string& joints) {
   std::ostringstream o;
   o.precision(17);
   o << "<body name=\"" << name << "\" pos=\"" << at.x() << " " << at.y() << " " << at.z() << "\">" << joints
     << "<geom name=\"" << name << "\" type=\"" << (b.shape == Shape::cube ? "box" : "sphere") << "\" size=\"";
   if (b.shape == Shape::cube) o << b.size << " " << b.size << " ";
-  o << b.size << "\" mass=\"" << b.mass << "\"" << geom_extra << "/></body>";
+  o << b.size << "\" mass=\"" << b.mass << "\"/></body>";
   return o.str();
 }
 
@@ -183,13 +182,10 @@ std::string MujocoWorld::xml(const WorldSpec& spec, const std::vector<Body>& bod
       << (spec.pair.friction > 0 ? 3 : 1) << "\" friction=\"" << spec.pair.friction << " 0 0\" solref=\"" << pair_ref
       << "\" solimp=\"" << solimp(c) << "\"/></body>\n";
   }
-  o << "<body name=\"tip\"><joint type=\"slide\" axis=\"1 0 0\"/><joint type=\"slide\" axis=\"0 1 0\"/>"
-    << "<joint type=\"slide\" axis=\"0 0 1\"/><geom name=\"tip\" type=\"sphere\" size=\""
-    << std::max(spec.tip_radius, kMinTipRadius) << "\" mass=\"" << spec.tip_mass
-    << "\"/></body>\n</worldbody>\n<contact>\n";
   const double tip_r = std::max(spec.tip_radius, kMinTipRadius);
   Body tip;
   tip.shape = Shape::sphere, tip.size = tip_r, tip.mass = spec.tip_mass;
+  o << body_xml(tip, "tip", Eigen::Vector3d::Zero(), kSlides) << "\n</worldbody>\n<contact>\n";
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     const std::string g = "g" + std::to_string(i);
     const Body& b = bodies[i];
