@@ -14,7 +14,8 @@ ObjectConfig object(const Config& o, double servo_dt, double tip_radius) {
   const auto centre = o.vec3("centre", {0, 0, c.model == "hybrid" ? 0.05 : 0});
   if (c.model == "hybrid") {
     o.allow_only({"name", "model", "centre", "size", "elements", "stiff_ratio", "map", "keep", "behavior_rate",
-                  "visual_subdivisions", "rounding", "friction", "volume", "behavior", "young", "poisson", "density"});
+                  "visual_subdivisions", "rounding", "friction", "volume", "behavior", "young", "poisson", "density",
+                  "mesh"});
     models::deformable::HybridSpec& s = c.hybrid;
     s.centre = {centre[0], centre[1], centre[2]};
     s.size = o.number("size", s.size, 0.01, 2);
@@ -33,6 +34,18 @@ ObjectConfig object(const Config& o, double servo_dt, double tip_radius) {
     s.friction = device::friction_config(o);
     s.tip_radius = tip_radius;
     if (tip_radius >= 0.5 * s.size) o.fail("size", "the object must be wider than the stylus tip (tip_radius)");
+    if (const std::string mesh = o.path("mesh"); !mesh.empty()) {
+      for (const char* cube_only : {"rounding", "visual_subdivisions"})
+        if (o.has(cube_only)) o.fail(cube_only, std::string(cube_only) + " shapes the cube; a mesh is drawn as it is");
+      // An organ: the OBJ's shape, checked here so that a bad file is named
+      // with the line that asks for it.
+      try {
+        s.shape = models::massspring::read_obj(mesh);
+        models::deformable::hybrid_masses(s);
+      } catch (const std::exception& e) {
+        o.fail("mesh", e.what());
+      }
+    }
     return c;
   }
   o.allow_only({"name", "model", "centre", "size", "resolution", "stiffness", "damping", "prestretch", "bending",

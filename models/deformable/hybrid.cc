@@ -19,11 +19,29 @@ void need(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("hybrid: " + what);
 }
 
-bool stiff_side(const HybridSpec& s, const Eigen::Vector3d& rest_from_corner) {
-  return s.stiff_ratio != 1 && rest_from_corner.x() > 0.5 * s.size + 1e-9;
+// The +x half past the body's centre (rest, world).
+bool stiff_side(const HybridSpec& s, const Eigen::Vector3d& rest) {
+  return s.stiff_ratio != 1 && rest.x() > s.centre.x() + 1e-9 * s.size;
 }
 
-Eigen::Vector3d corner(const HybridSpec& s) { return s.centre - Eigen::Vector3d::Constant(0.5 * s.size); }
+// The shape scaled and moved into place, welded.
+models::massspring::TriangleMesh placed(const HybridSpec& s) {
+  models::massspring::TriangleMesh m = s.shape;
+  need(m.vertices.cols() >= 4 && m.vertices.allFinite(), "a shape needs at least 4 finite vertices");
+  for (const Eigen::Vector3i& t : m.triangles)
+    need(t.minCoeff() >= 0 && t.maxCoeff() < m.vertices.cols(), "a shape's triangle indexes no vertex");
+  const Eigen::Vector3d lo = m.vertices.rowwise().minCoeff(), hi = m.vertices.rowwise().maxCoeff();
+  const double longest = (hi - lo).maxCoeff();
+  need(longest > 0, "a shape needs an extent");
+  m.vertices = ((m.vertices.colwise() - 0.5 * (lo + hi)) * (s.size / longest)).colwise() + s.centre;
+  models::massspring::weld(m, 1e-9 * s.size);
+  try {
+    models::massspring::check_closed(m);
+  } catch (const std::invalid_argument& e) {
+    need(false, std::string("shape: ") + e.what());
+  }
+  return m;
+}
 
 }  // namespace
 
@@ -64,33 +82,73 @@ void check(const HybridSpec& s) {
   need(s.keep > 0 && s.keep <= 1, "keep must be in (0, 1]");
   need(s.visual_tolerance >= 0 && s.visual_tolerance < s.size, "visual_tolerance must be in [0, size)");
   need(s.tip_radius >= 0 && s.tip_radius < 0.5 * s.size, "tip_radius must be in [0, size / 2)");
+  need(s.shape.triangles.empty() || s.map != VisualMap::trilinear, "a shape is mapped by mvc or mvc_sparse");
+}
+
+Eigen::AlignedBox3d rest_box(const HybridSpec& s) {
+  check(s);
+  if (s.shape.triangles.empty())
+    return {s.centre - Eigen::Vector3d::Constant(0.5 * s.size), s.centre + Eigen::Vector3d::Constant(0.5 * s.size)};
+  const models::massspring::TriangleMesh m = placed(s);
+  return {m.vertices.rowwise().minCoeff(), m.vertices.rowwise().maxCoeff()};
+}
+
+models::massspring::TriangleMesh hybrid_visual(const HybridSpec& s) {
+  check(s);
+  if (!s.shape.triangles.empty()) return placed(s);
+  const Eigen::AlignedBox3d box = rest_box(s);
+  return rounded_box(s.visual_subdivisions, box.min(), box.max(), s.visual_exponent);
+}
+
+models::massspring::Voxels hybrid_voxels(const HybridSpec& s) {
+  check(s);
+  const double spacing = s.size / (s.elements - 1);
+  if (!s.shape.triangles.empty()) return models::massspring::voxelise(placed(s), spacing);
+  const int n = s.elements - 1;
+  models::massspring::Voxels v = models::massspring::box_voxels(n, n, n, spacing);
+  v.origin = rest_box(s).min();
+  return v;
 }
 
 ChainLattice hybrid_chains(const HybridSpec& s) {
-  check(s);
-  const int n = s.elements;
-  ChainLattice l = make_chain_box(n, n, n, s.size / (n - 1), s.chain);
-  l.origin = corner(s);
+  const models::massspring::Voxels v = hybrid_voxels(s);
+  const std::vector<int> mass = v.masses();
+  const Eigen::Array3i n = v.nodes();
+  ChainLattice l = make_chain_box(n.x(), n.y(), n.z(), v.spacing, s.chain);
+  l.origin = v.origin;
   ChainMaterial hard = s.chain;
   hard.stiffness *= s.stiff_ratio;
   for (double* r : {&hard.stretch, &hard.compress, &hard.shear}) *r /= s.stiff_ratio;
   for (int e = 0; e < l.size(); ++e) {
-    if (stiff_side(s, l.rest(e) - l.origin)) l.material[e] = hard;
-    l.anchored[e] = e < n * n;  // the bottom layer, k = 0
+    l.present[e] = mass[e] >= 0;
+    if (stiff_side(s, l.rest(e))) l.material[e] = hard;
+    l.anchored[e] = l.present[e] && e < n.x() * n.y();  // the bottom layer, k = 0
   }
   return l;
 }
 
+namespace {
+
+// Anchors the masses on the bottom layer of nodes.
+void anchor_bottom(const models::massspring::Voxels& v, std::vector<std::uint8_t>& anchored,
+                   const Eigen::Matrix3Xd& rest) {
+  int count = 0;
+  for (int i = 0; i < rest.cols(); ++i) count += anchored[i] = rest(2, i) < v.origin.z() + 0.5 * v.spacing;
+  need(count >= 3, "the body's lowest layer of nodes holds " + std::to_string(count) +
+                       " (3 or more needed): a shape must rest on a flat underside");
+}
+
+}  // namespace
+
 models::massspring::Lattice hybrid_masses(const HybridSpec& s) {
-  check(s);
-  const int n = s.elements;
-  models::massspring::Lattice l = models::massspring::make_box(n, n, n, s.size / (n - 1), s.material);
+  const models::massspring::Voxels v = hybrid_voxels(s);
+  models::massspring::Lattice l = models::massspring::make_from_voxels(v, s.material);
   for (models::massspring::Spring& sp : l.springs)
     if (stiff_side(s, l.rest.col(sp.i)) && stiff_side(s, l.rest.col(sp.j))) sp.k *= s.stiff_ratio;
   if (s.volume > 0) {
-    const double modulus = s.volume * s.material.k / (s.size / (n - 1));
+    const double modulus = s.volume * s.material.k / v.spacing;
     const std::size_t first = l.quartets.size();
-    models::massspring::add_volumes(l, models::massspring::box_tetrahedra(n, n, n), modulus, 0, s.volume_floor);
+    models::massspring::add_volumes(l, models::massspring::voxel_tetrahedra(v), modulus, 0, s.volume_floor);
     for (std::size_t q = first; q < l.quartets.size(); ++q) {
       models::massspring::Quartet& t = l.quartets[q];
       if (stiff_side(s, l.rest.col(t.i)) && stiff_side(s, l.rest.col(t.j)) && stiff_side(s, l.rest.col(t.k)) &&
@@ -98,23 +156,23 @@ models::massspring::Lattice hybrid_masses(const HybridSpec& s) {
         t.stiffness *= s.stiff_ratio;
     }
   }
-  for (int i = 0; i < l.size(); ++i) l.anchored[i] = i < n * n;
-  l.rest.colwise() += corner(s);
+  anchor_bottom(v, l.anchored, l.rest);
   return l;
 }
 
 models::fem::Mesh hybrid_mesh(const HybridSpec& s) {
-  check(s);
-  const int n = s.elements;
-  models::fem::Mesh m = models::fem::box_mesh(n, n, n, s.size / (n - 1));
+  const models::massspring::Voxels v = hybrid_voxels(s);
+  models::fem::Mesh m;
+  m.rest = models::massspring::make_from_voxels(v, s.material).rest;
+  m.tets = models::massspring::voxel_tetrahedra(v);
+  m.anchored.assign(m.size(), 0);
   m.scale.assign(m.tets.size(), 1);
   for (std::size_t t = 0; t < m.tets.size(); ++t) {
     bool stiff = true;
     for (const int c : m.tets[t]) stiff = stiff && stiff_side(s, m.rest.col(c));
     if (stiff) m.scale[t] = s.stiff_ratio;
   }
-  for (int i = 0; i < m.size(); ++i) m.anchored[i] = i < n * n;
-  m.rest.colwise() += corner(s);
+  anchor_bottom(v, m.anchored, m.rest);
   return m;
 }
 
@@ -173,28 +231,33 @@ Eigen::Vector3d behavior_static_force(const HybridSpec& spec, int mass, const Ei
 }
 
 std::vector<double> gain_inputs(const HybridSpec& s) {
-  return {double(kForceGainVersion),
-          double(s.elements),
-          s.size,
-          s.chain.stiffness,
-          s.chain.stretch,
-          s.chain.compress,
-          s.chain.shear,
-          s.relax_rate,
-          s.limit_stiffness,
-          s.material.mass,
-          s.material.k,
-          s.material.b,
-          s.material.drag,
-          s.volume,
-          s.volume_floor,
-          s.stiff_ratio,
-          double(s.behavior_model),
-          s.fem.young,
-          s.fem.poisson,
-          s.fem.density,
-          s.fem.alpha,
-          s.fem.beta};
+  std::vector<double> in{double(kForceGainVersion),
+                         double(s.elements),
+                         s.size,
+                         s.chain.stiffness,
+                         s.chain.stretch,
+                         s.chain.compress,
+                         s.chain.shear,
+                         s.relax_rate,
+                         s.limit_stiffness,
+                         s.material.mass,
+                         s.material.k,
+                         s.material.b,
+                         s.material.drag,
+                         s.volume,
+                         s.volume_floor,
+                         s.stiff_ratio,
+                         double(s.behavior_model),
+                         s.fem.young,
+                         s.fem.poisson,
+                         s.fem.density,
+                         s.fem.alpha,
+                         s.fem.beta};
+  for (int v = 0; v < s.shape.vertices.cols(); ++v)
+    for (int c = 0; c < 3; ++c) in.push_back(s.shape.vertices(c, v));
+  for (const Eigen::Vector3i& t : s.shape.triangles)
+    for (int c = 0; c < 3; ++c) in.push_back(t[c]);
+  return in;
 }
 
 double ForceGain::at(double d, bool stiff_side) const {
@@ -207,22 +270,37 @@ double ForceGain::at(double d, bool stiff_side) const {
 }
 
 ForceGain force_gain(const HybridSpec& spec) {
-  check(spec);
-  const int n = spec.elements;
+  const models::massspring::Voxels voxels = hybrid_voxels(spec);
+  const std::vector<int> mass = voxels.masses();
+  const Eigen::Array3i n = voxels.nodes();
+  const double extent = rest_box(spec).sizes().minCoeff();
   ForceGain gain;
   // Closer where the S-Chain's growth is steepest: a stiff side's short
   // ranges move a new ring of chains every few tenths of a millimetre.
   for (const double f : {0.02, 0.03, 0.04, 0.06, 0.08, 0.1,  0.12, 0.14, 0.16, 0.2, 0.24,
                          0.28, 0.32, 0.4,  0.48, 0.56, 0.64, 0.72, 0.8,  0.88, 1.0})
-    gain.depth.push_back(0.25 * spec.size * f);
+    gain.depth.push_back(0.25 * extent * f);
   // The top element in the middle of each side's half (of the whole top
-  // when both sides are one), pressed down in turn to every depth.
+  // when both sides are one), pressed down in turn to every depth: the
+  // highest node of column (i, n.y / 2), or of the nearest column that
+  // has one.
   auto side = [&](int i) {
-    const int e = i + n * (n / 2 + n * (n - 1));
-    Held held(spec, e, 1e-5);
+    int e = -1;
+    for (int k = n.z() - 1; k >= 0; --k)
+      for (int j = 0; j < n.y(); ++j)
+        for (int c = 0; c < n.x(); ++c) {
+          const int node = int(voxels.node(c, j, k));
+          if (mass[node] < 0) continue;
+          const auto off = [&](int m) {
+            const int di = m % n.x() - i, dj = m / n.x() % n.y() - n.y() / 2;
+            return di * di + dj * dj;
+          };
+          if (e < 0 || off(node) < off(e)) e = node;
+        }
+    Held held(spec, mass[e], 1e-5);
     std::vector<double> g;
     for (const double d : gain.depth) {
-      const double behavior = held.settle(held.rest().col(e) - Eigen::Vector3d(0, 0, d), 1e-3).z();
+      const double behavior = held.settle(held.rest().col(mass[e]) - Eigen::Vector3d(0, 0, d), 1e-3).z();
       // The S-Chain as a stylus presses it: down over 100 ticks, held 200.
       SChain chain(hybrid_chains(spec), spec.relax_rate, spec.limit_stiffness);
       const Eigen::Vector3d rest = chain.lattice().rest(e);
@@ -233,10 +311,10 @@ ForceGain force_gain(const HybridSpec& spec) {
     return g;
   };
   if (spec.stiff_ratio == 1) {
-    gain.soft = side(n / 2);
+    gain.soft = side(n.x() / 2);
   } else {
-    gain.soft = side(n / 4);
-    gain.stiff = side(n - 1 - n / 4);
+    gain.soft = side(n.x() / 4);
+    gain.stiff = side(n.x() - 1 - n.x() / 4);
   }
   return gain;
 }
@@ -281,18 +359,34 @@ Hybrid::Hybrid(const HybridSpec& spec, const MapSource& map, const GainSource& g
     o.dt = spec.behavior.dt;
     fem_ = std::make_unique<models::fem::Corotational>(hybrid_mesh(spec), spec.fem, o);
   }
-  lo_ = corner(spec), hi_ = lo_ + Eigen::Vector3d::Constant(spec.size);
-  visual_ = rounded_box(spec.visual_subdivisions, lo_, hi_, spec.visual_exponent);
-  const int n = spec.elements;
+  const Eigen::AlignedBox3d box = rest_box(spec);
+  lo_ = box.min(), hi_ = box.max();
+  visual_ = hybrid_visual(spec);
+  const models::massspring::Voxels voxels = hybrid_voxels(spec);
   const models::massspring::Lattice& lat = masses_->lattice();
   if (spec.map == VisualMap::trilinear) {
+    // A cube's: its masses are every node of the grid.
+    const Eigen::Array3i n = voxels.nodes();
     for (int i = 0; i < lat.size(); ++i) cage_.push_back(i);
-    weights_ = trilinear_weights(n, n, n, spec.size / (n - 1), lo_, visual_.vertices);
+    weights_ = trilinear_weights(n.x(), n.y(), n.z(), voxels.spacing, voxels.origin, visual_.vertices);
   } else {
-    const GridSurface g = grid_surface(n, n, n);
+    const GridSurface g = voxel_surface(voxels);
     cage_ = g.nodes;
     Eigen::Matrix3Xd cage(3, cage_.size());
     for (std::size_t v = 0; v < cage_.size(); ++v) cage.col(v) = lat.rest.col(cage_[v]);
+    if (!spec.shape.triangles.empty()) {
+      // A shape's surface lies up to a cell from the cells' boundary, where
+      // mean value weights spread a point over much of the cage: the map's
+      // cage is moved toward the surface, each node by at most 0.45 of a
+      // cell so that no two meet. The map then reads the masses'
+      // displacements, which are the same wherever their rest is drawn.
+      const MeshProxy shape(visual_.triangles, int(visual_.vertices.cols()));
+      for (int v = 0; v < cage.cols(); ++v) {
+        const Eigen::Vector3d to =
+            shape.point(visual_.vertices, shape.closest(visual_.vertices, cage.col(v))) - cage.col(v);
+        cage.col(v) += to * std::min(1.0, 0.45 * voxels.spacing / std::max(to.norm(), 1e-300));
+      }
+    }
     weights_ = map ? map(cage, g.triangles, visual_.vertices) : mvc_map(spec, cage, g.triangles, visual_.vertices);
     need(weights_.rows() == visual_.vertices.cols() && weights_.cols() == cage.cols(),
          "the visual map must have a row per visual vertex and a column per cage vertex");
@@ -301,7 +395,10 @@ Hybrid::Hybrid(const HybridSpec& spec, const MapSource& map, const GainSource& g
   mesh_ = std::make_unique<MeshProxy>(visual_.triangles, int(visual_.vertices.cols()));
   surface_ = mesh_->grown(visual_.vertices, spec.tip_radius);
   // Cells of about two visual edges: a tick's path meets a few of them.
-  const double edge = spec.size / spec.visual_subdivisions;
+  double edge = 0;
+  for (const Eigen::Vector3i& t : visual_.triangles)
+    for (int c = 0; c < 3; ++c) edge += (visual_.vertices.col(t[c]) - visual_.vertices.col(t[(c + 1) % 3])).norm();
+  edge /= 3.0 * visual_.triangles.size();
   faces_ = std::make_unique<FaceGrid>(surface_, visual_.triangles, 2 * edge, 1e-9);
   tick_load_.setZero(3, lat.size());
   load_sum_.setZero(3, lat.size());

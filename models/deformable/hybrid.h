@@ -4,8 +4,9 @@
 // opposite of that force; a dense visual mesh follows the behavior lattice
 // through a precomputed map. The stylus touches the visual surface, the
 // one drawn, through a proxy on it (models/deformable/proxy.h) with
-// friction. One cube resting on its anchored bottom face, as in 001 Fig 7
-// and 8.
+// friction. A cube resting on its anchored bottom face, as in 001 Fig 7
+// and 8, or an organ of any closed shape (001 Fig 9) resting on its
+// underside.
 #pragma once
 
 #include <functional>
@@ -38,8 +39,15 @@ BehaviorModel parse_behavior_model(const std::string& name);  // throws std::inv
 
 struct HybridSpec {
   int elements = 10;                                     // chains and masses per edge (10: 001 Fig 7's 1000)
-  double size = 0.1;                                     // m, cube edge
-  Eigen::Vector3d centre = Eigen::Vector3d(0, 0, 0.05);  // m, world; the bottom face is anchored
+  double size = 0.1;                                     // m, the cube's edge, or the shape box's longest side
+  Eigen::Vector3d centre = Eigen::Vector3d(0, 0, 0.05);  // m, world: the cube's or the shape box's centre
+  // Empty: a cube. Otherwise a closed, outward-facing triangle mesh in any
+  // unit and place, scaled so that its box's longest side is `size` and
+  // moved so that its box's centre is `centre`: it is the visual mesh, and
+  // the lattices fill the cells of size / (elements - 1) whose centres lie
+  // inside it (massspring::voxelise). Either body rests on its lowest layer
+  // of nodes, anchored: a shape needs a flat underside.
+  models::massspring::TriangleMesh shape;
   // Haptic model: K and ranges fitted to the behavior model's static force
   // over 1 to 5 mm of depth (docs/deformable.md, force_vs_behavior).
   ChainMaterial chain{35, 0.3, 0.3, 0.6};
@@ -74,10 +82,10 @@ struct HybridSpec {
   // mass damping 10/s.
   BehaviorModel behavior_model = BehaviorModel::springs;
   models::fem::Material fem{10e3, 0.3, 1000, 10, 0};
-  int visual_subdivisions = 30;  // 6 s^2 + 2 vertices, 12 s^2 triangles (30: 5402 and 10800)
-  double visual_exponent = 8;    // rounding of the visual box's edges (rounded_box)
-  VisualMap map = VisualMap::mvc_sparse;
-  double keep = 0.999;  // mvc_sparse: share of each row's weight kept
+  int visual_subdivisions = 30;           // the cube's: 6 s^2 + 2 vertices, 12 s^2 triangles (30: 5402 and 10800)
+  double visual_exponent = 8;             // rounding of the visual cube's edges (rounded_box)
+  VisualMap map = VisualMap::mvc_sparse;  // a shape's: mvc or mvc_sparse
+  double keep = 0.999;                    // mvc_sparse: share of each row's weight kept
   // m: cage motions below this are not mapped (apply_moved); 10 um is a
   // hundredth of a pixel for a 600 px focal length at 0.5 m.
   double visual_tolerance = 1e-5;
@@ -85,11 +93,19 @@ struct HybridSpec {
   double tip_radius = 0;      // m, >= 0: the stylus tip's; its centre touches the surface grown by it
 };
 
-// Throws std::invalid_argument naming the first bad field.
+// Throws std::invalid_argument naming the first bad field (a shape's
+// problems among them: not closed, no flat underside).
 void check(const HybridSpec& spec);
 
-// The chain lattice and the behavior lattice of `spec`, element e of one
-// being mass e of the other.
+// The body at rest: its box (m, world), its visual mesh (the rounded cube,
+// or the placed shape), and the cells its lattices stand on.
+Eigen::AlignedBox3d rest_box(const HybridSpec& spec);
+models::massspring::TriangleMesh hybrid_visual(const HybridSpec& spec);
+models::massspring::Voxels hybrid_voxels(const HybridSpec& spec);
+
+// The chain lattice (an element at every node of the cells' grid, present
+// where a mass is) and the behavior lattice of `spec` (masses numbered as
+// Voxels::masses: for the cube, element e of one is mass e of the other).
 ChainLattice hybrid_chains(const HybridSpec& spec);
 models::massspring::Lattice hybrid_masses(const HybridSpec& spec);
 // The FEM behavior model's mesh: the lattice's nodes and anchors, five
@@ -105,8 +121,8 @@ Eigen::Vector3d behavior_static_force(const HybridSpec& spec, int mass, const Ei
 // The felt force's gain over the press's depth (the HIP's distance from
 // the proxy; issue 26 item 4): the behavior model's static force over the
 // S-Chain's for the same press down at the top, at 21 depths from 2 % to
-// all of a quarter of the cube's size (0.5 to 25 mm at 10 cm), on the soft
-// side and, with a stiff_ratio, on the stiff side. An S-Chain moves more
+// all of a quarter of the rest box's smallest side (0.5 to 25 mm for a 10
+// cm cube), on the soft side and, with a stiff_ratio, on the stiff side. An S-Chain moves more
 // chains the deeper it is pressed, and its force grows far faster than the
 // lattice's (bench hybrid, force_vs_behavior rows: ten times it at 25 mm
 // with the ranges fitted on 1 to 5 mm).
@@ -120,7 +136,7 @@ struct ForceGain {
 // turn (implicit Euler to rest), on each side.
 ForceGain force_gain(const HybridSpec& spec);
 // The spec's fields force_gain reads, in a fixed order, after
-// kForceGainVersion: a cache's key.
+// kForceGainVersion (the shape's vertices and triangles last): a cache's key.
 std::vector<double> gain_inputs(const HybridSpec& spec);
 // Raised whenever force_gain computes differently from the same spec, so
 // that gains kept on disk by an older build are computed again.

@@ -34,6 +34,7 @@ ChainLattice make_chain_box(int nx, int ny, int nz, double spacing, const ChainM
   l.nx = nx, l.ny = ny, l.nz = nz, l.spacing = spacing;
   l.material.assign(l.size(), m);
   l.anchored.assign(l.size(), 0);
+  l.present.assign(l.size(), 1);
   return l;
 }
 
@@ -41,9 +42,22 @@ SChain::SChain(ChainLattice lattice, double relax_rate, double limit_stiffness)
     : lat_(std::move(lattice)), relax_rate_(relax_rate), limit_stiffness_(limit_stiffness) {
   need(lat_.nx >= 2 && lat_.ny >= 2 && lat_.nz >= 2, "a chain lattice needs at least 2 x 2 x 2 elements");
   need(lat_.spacing > 0 && std::isfinite(lat_.spacing), "spacing must be finite and > 0");
-  need(int(lat_.material.size()) == lat_.size() && int(lat_.anchored.size()) == lat_.size(),
-       "material and anchored need one entry per element");
+  need(int(lat_.material.size()) == lat_.size() && int(lat_.anchored.size()) == lat_.size() &&
+           int(lat_.present.size()) == lat_.size(),
+       "material, anchored and present need one entry per element");
   for (const ChainMaterial& m : lat_.material) check(m);
+  on_surface_.assign(lat_.size(), 0);
+  for (int k = 0; k < lat_.nz; ++k)
+    for (int j = 0; j < lat_.ny; ++j)
+      for (int i = 0; i < lat_.nx; ++i) {
+        const int e = lat_.index(i, j, k);
+        if (!lat_.present[e]) continue;
+        const bool border = i == 0 || j == 0 || k == 0 || i == lat_.nx - 1 || j == lat_.ny - 1 || k == lat_.nz - 1;
+        if (border || !lat_.present[e - 1] || !lat_.present[e + 1] || !lat_.present[e - lat_.nx] ||
+            !lat_.present[e + lat_.nx] || !lat_.present[e - lat_.nx * lat_.ny] || !lat_.present[e + lat_.nx * lat_.ny])
+          on_surface_[e] = 1, surface_.push_back(e);
+      }
+  need(!surface_.empty(), "a chain lattice needs at least one element present");
   need(relax_rate > 0 && std::isfinite(relax_rate), "relax_rate must be finite and > 0");
   need(limit_stiffness >= 0 && std::isfinite(limit_stiffness), "limit_stiffness must be finite and >= 0");
   u_.assign(lat_.size(), Eigen::Vector3d::Zero());
@@ -107,6 +121,7 @@ bool SChain::propagate(int contact, const Eigen::Vector3d& u, int* count) {
         const int c = at[axis] + side;
         if (c < 0 || c >= dims[axis]) continue;
         const int n = e + side * stride[axis];
+        if (!lat_.present[n]) continue;
         if (n == contact) {
           // The contact is held: it is e that must give way to it.
           if (enforce(n, e, axis, -side, &blocked) && !queued_[e]) queued_[e] = 1, queue_.push_back(e);
@@ -129,7 +144,8 @@ void SChain::undo() {
 
 int SChain::tick(double dt, int contact, const Eigen::Vector3d& target) {
   need(dt > 0 && std::isfinite(dt), "dt must be finite and > 0");
-  need(contact >= -1 && contact < lat_.size(), "contact element " + std::to_string(contact) + " is not in the lattice");
+  need(contact >= -1 && contact < lat_.size() && (contact < 0 || lat_.present[contact]),
+       "contact element " + std::to_string(contact) + " is not in the lattice");
   need(contact < 0 || target.allFinite(), "the contact target must be finite");
   // Elastic relaxation: every link's allowed box contains zero difference,
   // so scaling all displacements down never violates a link.
@@ -177,24 +193,18 @@ int SChain::nearest_surface(const Eigen::Vector3d& p) const {
   const Eigen::Vector3d g = (p - lat_.origin) / lat_.spacing;
   const int dims[3] = {lat_.nx, lat_.ny, lat_.nz};
   int at[3];
-  bool inside = true;
   for (int c = 0; c < 3; ++c) {
     if (g[c] < -1 || g[c] > dims[c]) return -1;
     at[c] = std::clamp(int(std::lround(g[c])), 0, dims[c] - 1);
-    inside = inside && at[c] > 0 && at[c] < dims[c] - 1;
   }
-  if (inside) {
-    // Out through the nearest face.
-    int best = 0, side = 0;
-    double dist = 1e300;
-    for (int c = 0; c < 3; ++c)
-      for (const int s : {0, 1}) {
-        const double d = s ? dims[c] - 1 - g[c] : g[c];
-        if (d < dist) dist = d, best = c, side = s;
-      }
-    at[best] = side ? dims[best] - 1 : 0;
-  }
-  return lat_.index(at[0], at[1], at[2]);
+  // The nearest grid node, when it is on the surface (p on or near it);
+  // otherwise the nearest surface element by search.
+  if (const int e = lat_.index(at[0], at[1], at[2]); on_surface_[e]) return e;
+  int best = -1;
+  double dist = 1e300;
+  for (const int e : surface_)
+    if (const double d = (lat_.rest(e) - p).squaredNorm(); d < dist) dist = d, best = e;
+  return best;
 }
 
 }  // namespace hcosim::models::deformable

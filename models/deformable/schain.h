@@ -35,13 +35,14 @@ struct ChainLattice {
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // element (0, 0, 0), world frame, m
   std::vector<ChainMaterial> material;               // one per element, index i + nx (j + ny k)
   std::vector<std::uint8_t> anchored;                // 1: never moves
+  std::vector<std::uint8_t> present;                 // 0: no element there (a body that is not a box), no links
 
   int size() const { return nx * ny * nz; }
   int index(int i, int j, int k) const { return i + nx * (j + ny * k); }
   Eigen::Vector3d rest(int e) const;
 };
 
-// nx x ny x nz elements of one material, none anchored. Throws
+// nx x ny x nz elements of one material, all present, none anchored. Throws
 // std::invalid_argument for fewer than 2 per side, a non-positive spacing
 // or stiffness, or ranges outside (0, 1).
 ChainLattice make_chain_box(int nx, int ny, int nz, double spacing, const ChainMaterial& m);
@@ -71,8 +72,9 @@ class SChain {
   const std::vector<int>& moved() const { return moved_; }  // elements displaced from rest
   const ChainLattice& lattice() const { return lat_; }
 
-  // The surface element nearest to p (world frame), or -1 if p is farther
-  // than one spacing outside the lattice's box.
+  // The surface element (one present with a neighbour missing or on the
+  // grid's border) nearest to p (world frame), or -1 if p is farther than
+  // one spacing outside the lattice's box.
   int nearest_surface(const Eigen::Vector3d& p) const;
 
  private:
@@ -92,6 +94,8 @@ class SChain {
   std::vector<Eigen::Vector3d> u_;                 // displacement from rest, m
   std::vector<int> moved_;                         // elements with u != 0
   std::vector<std::uint8_t> in_moved_;             // 1 while in moved_
+  std::vector<std::uint8_t> on_surface_;           // 1: a surface element
+  std::vector<int> surface_;                       // the surface elements
   std::vector<std::uint32_t> visit_;               // stamp of the last propagation that reached it
   std::vector<std::uint8_t> queued_;               // 1 while waiting in queue_
   std::uint32_t stamp_ = 0;

@@ -1,5 +1,6 @@
 #include "models/deformable/surface.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -9,31 +10,43 @@ namespace hcosim::models::deformable {
 
 GridSurface grid_surface(int nx, int ny, int nz) {
   if (nx < 2 || ny < 2 || nz < 2) throw std::invalid_argument("grid_surface: needs at least 2 nodes per side");
-  const int n[3] = {nx, ny, nz};
-  auto id = [&](const int c[3]) { return c[0] + nx * (c[1] + ny * c[2]); };
+  return voxel_surface(models::massspring::box_voxels(nx - 1, ny - 1, nz - 1, 1));
+}
+
+GridSurface voxel_surface(const models::massspring::Voxels& voxels) {
+  const std::vector<int> mass = voxels.masses();
   GridSurface s;
-  std::vector<int> local(std::size_t(nx) * ny * nz, -1);
+  std::vector<int> local(mass.size(), -1);
   auto vertex = [&](const int c[3]) {
-    int& v = local[id(c)];
-    if (v < 0) v = int(s.nodes.size()), s.nodes.push_back(id(c));
+    const long node = voxels.node(c[0], c[1], c[2]);
+    int& v = local[node];
+    if (v < 0) v = int(s.nodes.size()), s.nodes.push_back(mass[node]);
     return v;
   };
-  // Face normal to axis a at side 0 or n[a]-1; (b, c) is ordered so that
-  // b x c points outward, which makes each square's corners
-  // counter-clockwise seen from outside.
+  const int n[3] = {voxels.cells.x(), voxels.cells.y(), voxels.cells.z()};
+  // Squares normal to axis a on side 0 or 1 of a filled cell whose
+  // neighbour there is empty; (b, c) is ordered so that b x c points
+  // outward, which makes each square's corners counter-clockwise seen
+  // from outside.
   for (int a = 0; a < 3; ++a)
     for (int side = 0; side < 2; ++side) {
       int b = (a + 1) % 3, c = (a + 2) % 3;
       if (side == 0) std::swap(b, c);
-      for (int v = 0; v + 1 < n[c]; ++v)
-        for (int u = 0; u + 1 < n[b]; ++u) {
-          int p[4][3];
-          const int du[4] = {0, 1, 1, 0}, dv[4] = {0, 0, 1, 1};
-          for (int q = 0; q < 4; ++q) p[q][a] = side ? n[a] - 1 : 0, p[q][b] = u + du[q], p[q][c] = v + dv[q];
-          const int w[4] = {vertex(p[0]), vertex(p[1]), vertex(p[2]), vertex(p[3])};
-          s.triangles.emplace_back(w[0], w[1], w[2]);
-          s.triangles.emplace_back(w[0], w[2], w[3]);
-        }
+      for (int layer = side ? n[a] - 1 : 0; side ? layer >= 0 : layer < n[a]; layer += side ? -1 : 1)
+        for (int v = 0; v < n[c]; ++v)
+          for (int u = 0; u < n[b]; ++u) {
+            int cell[3], out[3];
+            cell[a] = layer, cell[b] = u, cell[c] = v;
+            std::copy(cell, cell + 3, out);
+            out[a] += side ? 1 : -1;
+            if (!voxels.is_filled(cell[0], cell[1], cell[2]) || voxels.is_filled(out[0], out[1], out[2])) continue;
+            int p[4][3];
+            const int du[4] = {0, 1, 1, 0}, dv[4] = {0, 0, 1, 1};
+            for (int q = 0; q < 4; ++q) p[q][a] = layer + side, p[q][b] = u + du[q], p[q][c] = v + dv[q];
+            const int w[4] = {vertex(p[0]), vertex(p[1]), vertex(p[2]), vertex(p[3])};
+            s.triangles.emplace_back(w[0], w[1], w[2]);
+            s.triangles.emplace_back(w[0], w[2], w[3]);
+          }
     }
   return s;
 }

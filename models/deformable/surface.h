@@ -11,7 +11,7 @@
 
 namespace hcosim::models::deformable {
 
-// The boundary of an nx x ny x nz grid (node i + nx (j + ny k)) as a closed
+// The boundary of an nx x ny x nz grid of nodes (node i + nx (j + ny k)) as a closed
 // triangle mesh: its nodes and triangles indexing into `nodes`,
 // counter-clockwise seen from outside. (nx ny nz - (nx-2)(ny-2)(nz-2))
 // nodes, two triangles per boundary square. Throws std::invalid_argument
@@ -21,6 +21,12 @@ struct GridSurface {
   std::vector<Eigen::Vector3i> triangles;
 };
 GridSurface grid_surface(int nx, int ny, int nz);
+
+// The boundary of the filled cells of `voxels` as a closed triangle mesh:
+// two triangles per square between a filled cell and one that is not (or
+// the grid's outside), counter-clockwise seen from outside; `nodes` are
+// mass indices (Voxels::masses). grid_surface is that of a full box.
+GridSurface voxel_surface(const models::massspring::Voxels& voxels);
 
 // A box from `lo` to `hi` (m) with rounded edges and corners: the
 // superellipsoid |x|^p + |y|^p + |z|^p = 1 in the box's normalised frame,

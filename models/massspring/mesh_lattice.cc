@@ -8,7 +8,6 @@
 #include <sstream>
 #include <stdexcept>
 #include <unordered_map>
-#include <unordered_set>
 
 namespace hcosim::models::massspring {
 namespace {
@@ -124,24 +123,52 @@ void check_closed(const TriangleMesh& mesh) {
                                   " triangle(s), a closed surface uses each edge twice");
 }
 
-Lattice make_from_mesh(TriangleMesh mesh, double spacing, const Material& m, Shear shear) {
-  if (!(spacing > 0) || !std::isfinite(spacing))
-    throw std::invalid_argument("mesh lattice: spacing must be finite and > 0");
+bool Voxels::is_filled(int i, int j, int k) const {
+  return i >= 0 && j >= 0 && k >= 0 && i < cells.x() && j < cells.y() && k < cells.z() && filled[cell(i, j, k)];
+}
+
+std::vector<int> Voxels::masses() const {
+  const Eigen::Array3i n = nodes();
+  std::vector<int> id(std::size_t(n.prod()), -1);
+  for (int k = 0; k < cells.z(); ++k)
+    for (int j = 0; j < cells.y(); ++j)
+      for (int i = 0; i < cells.x(); ++i)
+        if (filled[cell(i, j, k)])
+          for (int b = 0; b < 8; ++b) id[node(i + (b & 1), j + (b >> 1 & 1), k + (b >> 2 & 1))] = 0;
+  int next = 0;
+  for (int& m : id)
+    if (m == 0) m = next++;
+  return id;
+}
+
+Voxels box_voxels(int nx, int ny, int nz, double spacing) {
+  if (nx < 1 || ny < 1 || nz < 1) throw std::invalid_argument("voxels: a box needs at least one cell per side");
+  if (!(spacing > 0) || !std::isfinite(spacing)) throw std::invalid_argument("voxels: spacing must be finite and > 0");
+  Voxels v;
+  v.spacing = spacing;
+  v.cells << nx, ny, nz;
+  v.filled.assign(std::size_t(v.cells.prod()), 1);
+  return v;
+}
+
+Voxels voxelise(TriangleMesh mesh, double spacing) {
+  if (!(spacing > 0) || !std::isfinite(spacing)) throw std::invalid_argument("voxels: spacing must be finite and > 0");
   const Eigen::Vector3d lo = mesh.vertices.rowwise().minCoeff(), hi = mesh.vertices.rowwise().maxCoeff();
   weld(mesh, 1e-9 * std::max(1.0, (hi - lo).norm()));
   check_closed(mesh);
-  const Eigen::Array3i cells = ((hi - lo) / spacing).array().ceil().cast<int>().max(1);
-  const long total = long(cells[0]) * cells[1] * cells[2];
+  Voxels v;
+  v.origin = lo, v.spacing = spacing;
+  v.cells = ((hi - lo) / spacing).array().ceil().cast<int>().max(1);
+  const long total = long(v.cells[0]) * v.cells[1] * v.cells[2];
   if (total > 50'000'000)
-    throw std::invalid_argument("mesh lattice: spacing " + std::to_string(spacing) + " m gives " +
-                                std::to_string(total) + " cells; use a coarser spacing");
+    throw std::invalid_argument("voxels: spacing " + std::to_string(spacing) + " m gives " + std::to_string(total) +
+                                " cells; use a coarser spacing");
+  v.filled.assign(total, 0);
   // Inside test by parity along +x through each row of cell centres. The
   // ray is nudged by irrational fractions of a cell so it misses edges.
-  std::vector<std::uint8_t> inside(total, 0);
-  auto cell_id = [&](int i, int j, int k) { return i + long(cells[0]) * (j + long(cells[1]) * k); };
   std::vector<double> hits;
-  for (int k = 0; k < cells[2]; ++k)
-    for (int j = 0; j < cells[1]; ++j) {
+  for (int k = 0; k < v.cells[2]; ++k)
+    for (int j = 0; j < v.cells[1]; ++j) {
       const double y = lo.y() + (j + 0.5 + 1.3e-7 * M_SQRT2) * spacing,
                    z = lo.z() + (k + 0.5 + 1.1e-7 * M_PI) * spacing;
       hits.clear();
@@ -156,61 +183,97 @@ Lattice make_from_mesh(TriangleMesh mesh, double spacing, const Material& m, She
         hits.push_back(a.x() + u * (b.x() - a.x()) + w * (c.x() - a.x()));
       }
       std::sort(hits.begin(), hits.end());
-      for (int i = 0; i < cells[0]; ++i) {
+      for (int i = 0; i < v.cells[0]; ++i) {
         const double x = lo.x() + (i + 0.5) * spacing;
         const long crossed = std::lower_bound(hits.begin(), hits.end(), x) - hits.begin();
-        inside[cell_id(i, j, k)] = crossed % 2;
+        v.filled[v.cell(i, j, k)] = crossed % 2;
       }
     }
-  // Masses at the corners of inside cells, numbered in grid order.
-  const Eigen::Array3i corners = cells + 1;
-  auto corner_id = [&](int i, int j, int k) { return i + long(corners[0]) * (j + long(corners[1]) * k); };
-  std::unordered_map<long, int> node;
-  Lattice l;
-  std::vector<Eigen::Vector3d> pos;
-  auto mass_at = [&](int i, int j, int k) {
-    const auto [it, fresh] = node.emplace(corner_id(i, j, k), int(pos.size()));
-    if (fresh) pos.push_back(lo + spacing * Eigen::Vector3d(i, j, k));
-    return it->second;
-  };
-  std::unordered_set<std::uint64_t> linked;
-  std::vector<std::pair<int, int>> pairs;
-  auto link = [&](int a, int b) {
-    if (linked.insert(edge_key(a, b)).second) pairs.emplace_back(a, b);
-  };
-  for (int k = 0; k < cells[2]; ++k)
-    for (int j = 0; j < cells[1]; ++j)
-      for (int i = 0; i < cells[0]; ++i) {
-        if (!inside[cell_id(i, j, k)]) continue;
-        int c[2][2][2];
-        for (int a = 0; a < 8; ++a)
-          c[a & 1][(a >> 1) & 1][a >> 2] = mass_at(i + (a & 1), j + ((a >> 1) & 1), k + (a >> 2));
-        for (int p = 0; p < 2; ++p)
-          for (int q = 0; q < 2; ++q)
-            link(c[0][p][q], c[1][p][q]), link(c[p][0][q], c[p][1][q]), link(c[p][q][0], c[p][q][1]);
-        // Six faces; the diagonal choice follows the face corner's parity
-        // so that neighbouring cells agree on a shared face.
-        auto face = [&](int a00, int a10, int a01, int a11, int parity) {
-          if (shear == Shear::both || parity % 2 == 0) link(a00, a11);
-          if (shear == Shear::both || parity % 2 == 1) link(a10, a01);
-        };
-        for (int s = 0; s < 2; ++s) {
-          face(c[0][0][s], c[1][0][s], c[0][1][s], c[1][1][s], i + j + k + s);
-          face(c[0][s][0], c[1][s][0], c[0][s][1], c[1][s][1], i + j + k + s);
-          face(c[s][0][0], c[s][1][0], c[s][0][1], c[s][1][1], i + j + k + s);
-        }
-      }
-  if (pos.empty())
-    throw std::invalid_argument("mesh lattice: no cell of spacing " + std::to_string(spacing) +
+  if (std::find(v.filled.begin(), v.filled.end(), 1) == v.filled.end())
+    throw std::invalid_argument("voxels: no cell of spacing " + std::to_string(spacing) +
                                 " m lies inside the mesh; use a finer spacing");
-  l.rest.resize(3, pos.size());
-  for (std::size_t i = 0; i < pos.size(); ++i) l.rest.col(i) = pos[i];
-  l.mass.setConstant(pos.size(), m.mass);
-  l.anchored.assign(pos.size(), 0);
+  return v;
+}
+
+Lattice make_from_voxels(const Voxels& v, const Material& m, Shear shear) {
+  const std::vector<int> id = v.masses();
+  const int count = int(std::count_if(id.begin(), id.end(), [](int i) { return i >= 0; }));
+  if (count == 0) throw std::invalid_argument("mesh lattice: no cell is filled");
+  Lattice l;
+  l.rest.resize(3, count);
+  const Eigen::Array3i n = v.nodes();
+  for (int k = 0; k < n.z(); ++k)
+    for (int j = 0; j < n.y(); ++j)
+      for (int i = 0; i < n.x(); ++i)
+        if (const int a = id[v.node(i, j, k)]; a >= 0) l.rest.col(a) = v.origin + v.spacing * Eigen::Vector3d(i, j, k);
+  l.mass.setConstant(count, m.mass);
+  l.anchored.assign(count, 0);
   l.drag = m.drag;
-  for (const auto& [a, b] : pairs) l.springs.push_back({a, b, (l.rest.col(a) - l.rest.col(b)).norm(), m.k, m.b});
+  auto link = [&](int a, int b) { l.springs.push_back({a, b, (l.rest.col(a) - l.rest.col(b)).norm(), m.k, m.b}); };
+  // In make_box's order, node by node: a link or face square is there when
+  // a filled cell has it.
+  auto any = [&](int i, int j, int k, int di, int dj, int dk) {
+    // Cells around the segment or square from node (i, j, k), spanning
+    // the axes with d = 1: the cells that hold it are those that differ by
+    // -1 or 0 along the other axes.
+    for (int a = di ? 0 : -1; a <= 0; ++a)
+      for (int b = dj ? 0 : -1; b <= 0; ++b)
+        for (int c = dk ? 0 : -1; c <= 0; ++c)
+          if (v.is_filled(i + a, j + b, k + c)) return true;
+    return false;
+  };
+  for (int k = 0; k < n.z(); ++k)
+    for (int j = 0; j < n.y(); ++j)
+      for (int i = 0; i < n.x(); ++i) {
+        const int a = id[v.node(i, j, k)];
+        if (a < 0) continue;
+        const int p = i + j + k;
+        const int x = i + 1 < n.x() ? id[v.node(i + 1, j, k)] : -1, y = j + 1 < n.y() ? id[v.node(i, j + 1, k)] : -1,
+                  z = k + 1 < n.z() ? id[v.node(i, j, k + 1)] : -1;
+        if (x >= 0 && any(i, j, k, 1, 0, 0)) link(a, x);
+        if (y >= 0 && any(i, j, k, 0, 1, 0)) link(a, y);
+        if (z >= 0 && any(i, j, k, 0, 0, 1)) link(a, z);
+        // One face square with corners a, u, w and uw (opposite a): its diagonal(s).
+        auto square = [&](int u, int w, int uw) {
+          if (shear == Shear::both || p % 2 == 0) link(a, uw);
+          if (shear == Shear::both || p % 2 == 1) link(u, w);
+        };
+        if (x >= 0 && y >= 0 && any(i, j, k, 1, 1, 0)) square(x, y, id[v.node(i + 1, j + 1, k)]);
+        if (x >= 0 && z >= 0 && any(i, j, k, 1, 0, 1)) square(x, z, id[v.node(i + 1, j, k + 1)]);
+        if (y >= 0 && z >= 0 && any(i, j, k, 0, 1, 1)) square(y, z, id[v.node(i, j + 1, k + 1)]);
+      }
   check(l);
   return l;
+}
+
+std::vector<std::array<int, 4>> voxel_tetrahedra(const Voxels& v) {
+  const std::vector<int> id = v.masses();
+  std::vector<std::array<int, 4>> tets;
+  for (int k = 0; k < v.cells.z(); ++k)
+    for (int j = 0; j < v.cells.y(); ++j)
+      for (int i = 0; i < v.cells.x(); ++i) {
+        if (!v.filled[v.cell(i, j, k)]) continue;
+        // Corner b (bits x, y, z) of the cell. The central tetrahedron takes
+        // the corners of even i + j + k, whose face diagonals the Shear::one
+        // springs join; each other corner cuts off a tetrahedron with its
+        // three neighbours.
+        int c[8];
+        for (int b = 0; b < 8; ++b) c[b] = id[v.node(i + (b & 1), j + (b >> 1 & 1), k + (b >> 2 & 1))];
+        const int odd = (i + j + k) % 2;  // the central tetrahedron's corners have popcount parity `odd`
+        auto parity = [](int b) { return ((b & 1) + (b >> 1 & 1) + (b >> 2 & 1)) % 2; };
+        std::array<int, 4> centre{};
+        int n = 0;
+        for (int b = 0; b < 8; ++b)
+          if (parity(b) == odd) centre[n++] = c[b];
+        tets.push_back(centre);
+        for (int b = 0; b < 8; ++b)
+          if (parity(b) != odd) tets.push_back({c[b], c[b ^ 1], c[b ^ 2], c[b ^ 4]});
+      }
+  return tets;
+}
+
+Lattice make_from_mesh(TriangleMesh mesh, double spacing, const Material& m, Shear shear) {
+  return make_from_voxels(voxelise(std::move(mesh), spacing), m, shear);
 }
 
 }  // namespace hcosim::models::massspring

@@ -9,6 +9,8 @@
 
 #include <Eigen/Geometry>
 
+#include "models/massspring/mesh_lattice.h"
+
 namespace hcosim::models::massspring {
 
 double dihedral(const Quartet& h, const Eigen::Matrix3Xd& x, Eigen::Vector3d g[4]) {
@@ -135,28 +137,7 @@ void add_volumes(Lattice& l, const std::vector<std::array<int, 4>>& tets, double
 }
 
 std::vector<std::array<int, 4>> box_tetrahedra(int nx, int ny, int nz) {
-  std::vector<std::array<int, 4>> tets;
-  auto id = [nx, ny](int i, int j, int k) { return i + nx * (j + ny * k); };
-  for (int k = 0; k + 1 < nz; ++k)
-    for (int j = 0; j + 1 < ny; ++j)
-      for (int i = 0; i + 1 < nx; ++i) {
-        // Corner b (bits x, y, z) of the cell. The central tetrahedron takes
-        // the corners of even i + j + k, whose face diagonals make_box's
-        // Shear::one springs join; each other corner cuts off a tetrahedron
-        // with its three neighbours.
-        int c[8];
-        for (int b = 0; b < 8; ++b) c[b] = id(i + (b & 1), j + (b >> 1 & 1), k + (b >> 2 & 1));
-        const int odd = (i + j + k) % 2;  // the central tetrahedron's corners have popcount parity `odd`
-        auto parity = [](int b) { return ((b & 1) + (b >> 1 & 1) + (b >> 2 & 1)) % 2; };
-        std::array<int, 4> centre{};
-        int n = 0;
-        for (int b = 0; b < 8; ++b)
-          if (parity(b) == odd) centre[n++] = c[b];
-        tets.push_back(centre);
-        for (int b = 0; b < 8; ++b)
-          if (parity(b) != odd) tets.push_back({c[b], c[b ^ 1], c[b ^ 2], c[b ^ 4]});
-      }
-  return tets;
+  return voxel_tetrahedra(box_voxels(nx - 1, ny - 1, nz - 1, 1));
 }
 
 }  // namespace hcosim::models::massspring

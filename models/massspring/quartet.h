@@ -56,9 +56,8 @@ void add_hinges(Lattice& lattice, const std::vector<Eigen::Vector3i>& triangles,
 void add_volumes(Lattice& lattice, const std::vector<std::array<int, 4>>& tets, double modulus, double damping,
                  double floor);
 
-// The tetrahedra that fill make_box(nx, ny, nz, ...)'s cells, five to a
-// cell with the central one alternating in a checkerboard, so that
-// neighbouring cells split their shared face along the same diagonal.
+// The tetrahedra that fill make_box(nx, ny, nz, ...)'s cells
+// (voxel_tetrahedra of its cells, models/massspring/mesh_lattice.h).
 std::vector<std::array<int, 4>> box_tetrahedra(int nx, int ny, int nz);
 
 // Energy stiffness s^2 / 2 of a quartet at x (J), s its strain.

@@ -78,6 +78,32 @@ TEST(DeformableConfig, TheModelIsTheOneAsked) {
   EXPECT_EQ(hybrid->surface().cols(), 6 * 2 * 2 + 2);
 }
 
+// A unit cube as quads, outward: an organ's mesh at its simplest.
+constexpr const char* kCubeObj =
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 0 1\nv 1 0 1\nv 0 1 1\nv 1 1 1\n"
+    "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+
+TEST(DeformableConfig, AnOrgansMeshIsReadAndItsMistakesNamedWhereItIsAsked) {
+  tests::TempDir dir;
+  const std::string cube = dir.file("cube.obj", kCubeObj);
+  const DeformableConfig d =
+      deformable_config(params("objects: [{name: organ, mesh: " + cube + ", size: 0.03, elements: 4}]\n"), 0.001);
+  EXPECT_EQ(d.objects[0].hybrid.shape.vertices.cols(), 8);
+  EXPECT_EQ(d.objects[0].hybrid.shape.triangles.size(), 12u);
+  const std::string open = dir.file("open.obj", std::string(kCubeObj).substr(0, std::string(kCubeObj).rfind("f ")));
+  const std::string bad = dir.file("bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 9\n");
+  const std::pair<std::string, std::string> cases[] = {
+      {"objects: [{name: o, mesh: " + open + "}]\n", "d.yaml:1:27: hybrid: shape: mesh is not closed"},
+      {"objects: [{name: o, mesh: " + bad + "}]\n", "bad.obj:3: vertex index 9 is outside 1..2"},
+      {"objects: [{name: o, mesh: " + cube + ", rounding: 3}]\n", "rounding shapes the cube"},
+      {"objects: [{name: o, mesh: " + cube + ", map: trilinear}]\n", "mapped by mvc or mvc_sparse"},
+      {"objects: [{name: o, mesh: " + dir.path.string() + "/none.obj}]\n", "d.yaml:1:27"},
+  };
+  for (const auto& [text, expect] : cases)
+    EXPECT_NE(message_of([&] { deformable_config(params(text), 0.001); }).find(expect), std::string::npos)
+        << text << " -> " << message_of([&] { deformable_config(params(text), 0.001); });
+}
+
 TEST(DeformableConfig, MistakesAreNamedAtTheirPlace) {
   const auto error = [](const std::string& text) {
     return message_of<ConfigError>([&] { deformable_config(params(text), 0.001); });

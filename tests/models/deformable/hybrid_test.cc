@@ -1,6 +1,7 @@
 // The hybrid deformable model (001): the seed's meshes, the visual map,
 // release, monotone and non-homogeneous force, agreement of the S-Chain force
 // with the behavior model's, and abuse by the haptic point.
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <vector>
@@ -10,6 +11,7 @@
 
 #include "models/deformable/hybrid.h"
 #include "models/deformable/surface.h"
+#include "tests/support/temp_dir.h"
 
 namespace hcosim::models::deformable {
 namespace {
@@ -267,6 +269,123 @@ TEST(Hybrid, TheOrganIsTouchedWhereItsSurfaceIsDrawn) {
       EXPECT_NEAR(at, half + tip, 5e-4) << "along " << d.transpose() << ", tip radius " << tip;
     }
   }
+}
+
+// An organ from a mesh (issue 26 item 6): a loaf, an ellipsoid of axes
+// 2 : 1.2 : 1 cut flat at a fifth of its height, written in centimetres
+// off the origin, to be scaled to 4 cm and put on the floor.
+models::massspring::TriangleMesh loaf() {
+  models::massspring::TriangleMesh m =
+      rounded_box(16, Eigen::Vector3d(3, 4, 5), Eigen::Vector3d(7, 6.4, 7), 2);  // 4 x 2.4 x 2 cm
+  for (int v = 0; v < m.vertices.cols(); ++v) m.vertices(2, v) = std::max(m.vertices(2, v), 5.4);
+  return m;
+}
+
+HybridSpec loaf_spec() {
+  HybridSpec s;
+  s.shape = loaf();
+  s.size = 0.04;
+  s.elements = 16;
+  s.centre = Eigen::Vector3d(0.01, -0.02, 0.008);  // its box is 1.6 cm high
+  s.friction = {0.5, 0.5};
+  return s;
+}
+
+// The height of the mesh x over (x, y): the highest crossing of a vertical line.
+double height(const Eigen::Matrix3Xd& x, const std::vector<Eigen::Vector3i>& triangles, const Eigen::Vector2d& at) {
+  double top = -1e300;
+  for (const Eigen::Vector3i& t : triangles) {
+    const Eigen::Vector3d a = x.col(t[0]), b = x.col(t[1]), c = x.col(t[2]);
+    const double det = (b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y());
+    if (det == 0) continue;
+    const double u = ((at.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (at.y() - a.y())) / det;
+    const double w = ((b.x() - a.x()) * (at.y() - a.y()) - (at.x() - a.x()) * (b.y() - a.y())) / det;
+    if (u >= 0 && w >= 0 && u + w <= 1) top = std::max(top, a.z() + u * (b.z() - a.z()) + w * (c.z() - a.z()));
+  }
+  return top;
+}
+
+TEST(HybridShape, AnOrganIsItsMeshPlacedAndFilledByItsCells) {
+  const HybridSpec s = loaf_spec();
+  const Hybrid h(s);
+  const models::massspring::TriangleMesh& v = h.visual_rest();
+  EXPECT_EQ(v.vertices.cols(), loaf().vertices.cols());
+  EXPECT_EQ(v.triangles, loaf().triangles);
+  const Eigen::Vector3d lo = v.vertices.rowwise().minCoeff(), hi = v.vertices.rowwise().maxCoeff();
+  EXPECT_NEAR((hi - lo).maxCoeff(), 0.04, 1e-12);
+  EXPECT_LT((0.5 * (lo + hi) - s.centre).norm(), 1e-12);
+  EXPECT_NEAR(lo.z(), 0, 1e-12);
+  EXPECT_GT(signed_volume(v.vertices, v.triangles), 0);
+  // Masses only where cells are inside: within a cell's diagonal of the
+  // surface's box, far fewer than the box's nodes, the floor's anchored.
+  const models::massspring::Lattice& l = h.behavior().lattice();
+  const double cell = 0.04 / 15;
+  int anchored = 0;
+  for (int i = 0; i < l.size(); ++i) {
+    EXPECT_TRUE((l.rest.col(i).array() > lo.array() - cell).all() && (l.rest.col(i).array() < hi.array() + cell).all());
+    if (!l.anchored[i]) continue;
+    EXPECT_NEAR(l.rest(2, i), 0, 1e-12);
+    ++anchored;
+  }
+  EXPECT_GT(anchored, 20);
+  EXPECT_LT(l.size(), 0.7 * 16 * 10 * 8);
+  // The cage the map reads is closed and holds the lattice's volume.
+  const GridSurface g = voxel_surface(hybrid_voxels(s));
+  models::massspring::TriangleMesh cage{Eigen::Matrix3Xd(3, g.nodes.size()), g.triangles};
+  for (std::size_t i = 0; i < g.nodes.size(); ++i) cage.vertices.col(i) = l.rest.col(g.nodes[i]);
+  models::massspring::check_closed(cage);
+  const models::massspring::Voxels vox = hybrid_voxels(s);
+  const double filled = std::count(vox.filled.begin(), vox.filled.end(), 1);
+  EXPECT_NEAR(signed_volume(cage.vertices, cage.triangles), filled * std::pow(vox.spacing, 3), 1e-12);
+  EXPECT_EQ(h.cage_masses(), g.nodes);
+}
+
+// Coming down onto the loaf at points over its top: contact begins where
+// the drawn surface is; a 4 mm press is felt inside the friction cone about
+// the surface's normal, the drawn surface under the stylus gives way by
+// over half the stylus's depth (the cube's is 0.75: what is seen follows
+// what is felt as closely), the load taken is the force felt, and the
+// surface is back at rest within 0.1 mm 2 s after release.
+TEST(HybridShape, AnOrganIsTouchedOnItsDrawnSurfaceAndComesBack) {
+  const HybridSpec s = loaf_spec();
+  for (const Eigen::Vector2d at : {Eigen::Vector2d(0.01, -0.02), Eigen::Vector2d(0.02, -0.016)}) {
+    Hybrid h(s);
+    const double top = height(h.visual_rest().vertices, h.triangles(), at);
+    double entry = -1;
+    for (double z = top + 0.002; z > top - 0.004 && entry < 0; z -= 2e-5)
+      if (h.touch(1e-3, Eigen::Vector3d(at.x(), at.y(), z), false).in_contact) entry = z;
+    EXPECT_NEAR(entry, top, 5e-5) << "at " << at.transpose();
+    Touch t;
+    const Eigen::Vector3d above(at.x(), at.y(), top + 0.001);
+    for (int k = 0; k < 1500; ++k) {
+      t = h.touch(1e-3, above - Eigen::Vector3d(0, 0, 0.005 * std::min(1.0, (k + 1) / 300.0)), false);
+      EXPECT_NEAR((t.force + h.tick_load().rowwise().sum()).norm(), 0, 1e-12);
+      h.advance();
+    }
+    ASSERT_TRUE(t.in_contact);
+    EXPECT_GT(t.force.z(), 0.05) << "at " << at.transpose();
+    EXPECT_GT(t.force.normalized().dot(t.normal), std::cos(std::atan(0.5)) - 0.01) << "at " << at.transpose();
+    const double sunk = top - height(h.surface(), h.triangles(), at);
+    EXPECT_GT(sunk, 0.5 * t.depth) << "the drawn surface gives way under the stylus, at " << at.transpose();
+    for (int k = 0; k < 2000; ++k) h.touch(1e-3, above + Eigen::Vector3d(0, 0, 0.01), false), h.advance();
+    EXPECT_LT((h.surface() - h.visual_rest().vertices).colwise().norm().maxCoeff(), 1e-4) << "at " << at.transpose();
+  }
+}
+
+TEST(HybridShape, AShapeWithoutAFloorOrOpenIsRefusedByName) {
+  HybridSpec s = loaf_spec();
+  // An octahedron standing on a vertex: no cell of its lowest layer is inside.
+  s.shape.vertices.resize(3, 6);
+  s.shape.vertices << 1, -1, 0, 0, 0, 0, 0, 0, 1, -1, 0, 0, 0, 0, 0, 0, 1, -1;
+  s.shape.triangles = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  s.elements = 7;
+  EXPECT_NE(tests::message_of([&] { Hybrid h(s); }).find("flat underside"), std::string::npos);
+  s.shape = loaf();
+  s.shape.triangles.pop_back();
+  EXPECT_NE(tests::message_of([&] { Hybrid h(s); }).find("not closed"), std::string::npos);
+  s.shape = loaf();
+  s.map = VisualMap::trilinear;
+  EXPECT_NE(tests::message_of([&] { Hybrid h(s); }).find("mvc"), std::string::npos);
 }
 
 // Press 3 mm on top, then slide 10 mm sideways at 1 cm/s, on each side:

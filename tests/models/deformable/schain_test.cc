@@ -114,6 +114,32 @@ TEST(SChain, MovedChainsDoNotDependOnLatticeSize) {
   EXPECT_LT(large.moved().size(), 0.01 * large.lattice().size());
 }
 
+// An L of chains (the +x, +y quarter of a 10 x 10 x 4 slab missing, floor
+// anchored), as a body that is not a box has: a press on one arm moves no
+// missing element and no element across the gap, and a point over the gap
+// touches the nearest element that is on the surface.
+TEST(SChain, ChainsThatAreNotThereAreNeitherMovedNorTouched) {
+  ChainLattice l = make_chain_box(10, 10, 4, 0.01, {});
+  auto missing = [](int i, int j) { return i >= 5 && j >= 5; };
+  for (int k = 0; k < 4; ++k)
+    for (int j = 0; j < 10; ++j)
+      for (int i = 0; i < 10; ++i) {
+        l.present[l.index(i, j, k)] = !missing(i, j);
+        l.anchored[l.index(i, j, k)] = k == 0 && !missing(i, j);
+      }
+  SChain s(l);
+  const int e = l.index(7, 2, 3);  // on the +x arm, at the top
+  EXPECT_GT(press(s, e, 0.008).z(), 0);
+  EXPECT_GT(s.moved().size(), 10u);
+  for (const int m : s.moved()) {
+    EXPECT_TRUE(l.present[m]) << "element " << m << " is not there but moved";
+  }
+  // Inside the gap, just by the +x arm's inner face at j = 4.
+  const int near = s.nearest_surface(l.rest(l.index(7, 5, 2)) + Eigen::Vector3d(0, 0.002, 0));
+  EXPECT_EQ(near, l.index(7, 4, 2));
+  EXPECT_THROW(s.tick(kDt, l.index(7, 7, 3), l.rest(l.index(7, 7, 3))), std::invalid_argument);
+}
+
 TEST(SChain, FarNanAndLongHeldContactsAreHandled) {
   SChain s(cube());
   const int e = top_centre(s.lattice());

@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "models/massspring/mesh_lattice.h"
 #include "tests/support/temp_dir.h"
@@ -61,6 +62,41 @@ TEST_F(MeshFiles, VoxelisedSphereHasTheSphereVolume) {
   const double expect = M_PI / 6 * std::pow(2 * r / h + 1, 3);
   EXPECT_NEAR(l.size(), expect, 0.08 * expect);
   for (int i = 0; i < l.size(); ++i) EXPECT_LT(l.rest.col(i).norm(), r + 1.8 * h);
+}
+
+TEST(Voxels, AFullBoxIsMakeBoxSpringForSpring) {
+  for (const Shear shear : {Shear::one, Shear::both}) {
+    const Lattice v = make_from_voxels(box_voxels(3, 4, 5, 0.01), {}, shear);
+    const Lattice box = make_box(4, 5, 6, 0.01, {}, shear);
+    ASSERT_EQ(v.size(), box.size());
+    EXPECT_EQ((v.rest - box.rest).norm(), 0);
+    ASSERT_EQ(v.springs.size(), box.springs.size());
+    for (std::size_t s = 0; s < box.springs.size(); ++s) {
+      EXPECT_EQ(v.springs[s].i, box.springs[s].i);
+      EXPECT_EQ(v.springs[s].j, box.springs[s].j);
+    }
+  }
+}
+
+TEST(Voxels, AnLShapeHasOnlyItsCellsSpringsAndTetrahedra) {
+  // Two by two cells with one missing: an L of three cells in one layer.
+  Voxels v = box_voxels(2, 2, 1, 0.01);
+  v.filled[v.cell(1, 1, 0)] = 0;
+  const std::vector<int> id = v.masses();
+  EXPECT_EQ(id[v.node(2, 2, 0)], -1);
+  EXPECT_EQ(id[v.node(2, 2, 1)], -1);
+  const Lattice l = make_from_voxels(v, {});
+  EXPECT_EQ(l.size(), 18 - 2);
+  // Each of the 3 cells' 12 edges and 6 face diagonals, shared ones once:
+  // edges 12 + 8 + 8 = 28 (the two joints share 4 edges each), diagonals
+  // 6 * 3 - 2 shared faces = 16.
+  EXPECT_EQ(l.springs.size(), 28u + 16u);
+  double volume = 0;
+  for (const auto& t : voxel_tetrahedra(v)) {
+    const Eigen::Vector3d a = l.rest.col(t[0]);
+    volume += std::abs((l.rest.col(t[1]) - a).dot((l.rest.col(t[2]) - a).cross(l.rest.col(t[3]) - a))) / 6;
+  }
+  EXPECT_NEAR(volume, 3e-6, 1e-15);
 }
 
 TEST_F(MeshFiles, DuplicateVerticesAreWelded) {
