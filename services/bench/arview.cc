@@ -28,6 +28,7 @@
 #include <opencv2/videoio.hpp>
 
 #include "models/deformable/elastic_surface.h"
+#include "models/deformable/hybrid.h"
 #include "models/deformable/surface.h"
 #include "models/render/view.h"
 #include "models/vision/synthetic.h"
@@ -80,7 +81,10 @@ models::render::View scene(const std::string& name) {
   add(surface(models::deformable::Shape::sheet, {0, 0.04, 0.02}, 0.04));
   add(surface(models::deformable::Shape::semisphere, {0, -0.04, 0}, 0.02));
   add(box(30, {0.05, 0.035, 0.015}, 0.03, 8));
-  add(box(30, {0.05, -0.035, 0.015}, 0.03, 2));
+  models::deformable::HybridSpec organ;  // the liver
+  organ.shape = models::massspring::read_obj(HCOSIM_LIVER_OBJ);
+  organ.size = 0.045, organ.centre = Eigen::Vector3d(0.05, -0.035, 0.0075);
+  add(from(models::deformable::hybrid_visual(organ)));
   models::render::Stylus s;
   s.tip = Eigen::Vector3d(0, 0.04, 0.015);
   s.force = Eigen::Vector3d(0, 0, 0.8);

@@ -22,7 +22,8 @@
 // onset: the first tick of contact of the measured press: the force over
 //   the contact's stiffness (the answer's own) times that tick's motion.
 // hold: the force's spread (standard deviation over mean) over the last
-//   0.5 s of a 1 s hold; for the organ on its four times stiffer side.
+//   0.5 s of a 1 s hold; for the default scene's liver on its four times
+//   stiffer lobe.
 // push: a rigid cube pushed 4 cm along the marker at 5 cm/s: the mean
 //   felt force over the middle half of the push, over the floor's
 //   friction times the cube's weight.
@@ -103,19 +104,19 @@ std::vector<Kind> kinds() {
     out.push_back(k);
   }
   {
-    // The organ's +x half is four times stiffer: pressed from +x, held.
+    // The default scene's liver, its +x lobe four times stiffer: pressed
+    // from above on that lobe (its top 11.1 mm high there), held.
     Kind k;
     k.name = "organ_stiff_side", k.service = "deformable";
-    k.objects =
-        "    - {name: organ, kind: deformable, model: hybrid, centre: [0, 0, 0.015], size: 0.03, rounding: 2,\n"
-        "       stiff_ratio: 4}\n";
+    k.objects = std::string("    - {name: organ, kind: deformable, model: hybrid, mesh: ") + HCOSIM_LIVER_OBJ +
+                ",\n       centre: [0, 0, 0.0075], size: 0.045, elements: 16, stiff_ratio: 4}\n";
     k.script =
-        "start: [0.03, 0, 0.015]\nactions:\n"
-        "  - press: {depth: 0.02, speed: 0.02, direction: [-1, 0, 0]}\n"
+        "start: [0.012, 0, 0.02]\nactions:\n"
+        "  - press: {depth: 0.0129, speed: 0.02}\n"
         "  - hold: {duration: 1.0, buttons: 4}\n"
         "  - release: {speed: 0.03}\n";
     k.target = "organ", k.duration = 3;
-    k.normal = [](const Eigen::Vector3d&) { return Eigen::Vector3d::UnitX(); };
+    k.normal = up;
     out.push_back(k);
   }
   {

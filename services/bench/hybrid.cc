@@ -8,7 +8,11 @@
 //   normals and the DeformedMesh's floats),
 //   over a press, hold and release. `seed` is 001 Fig 7's scale, `100x` a
 //   hundred times more chains, masses and visual vertices (trilinear map:
-//   dense mean value weights of that size do not fit in memory).
+//   dense mean value weights of that size do not fit in memory), `organ`
+//   the default scene's liver (deploy/meshes/liver.obj).
+// seen_vs_felt: the default scene's cube and organ pressed from above 4 mm
+//   past their drawn surface at a few points: how far the drawn surface
+//   sank under the proxy over the stylus's depth.
 // visual_map: each map on a known smooth deformation (a press dent and a
 //   bend) applied to the cage, for the rounded box (`shape` box: 602 and
 //   5402 vertices) and an organ-like smooth ellipsoid inscribed in the cube
@@ -67,14 +71,24 @@ Row schain_row(int n, double depth) {
           {{"moved", double(moved)}, {"p50_us", quantile(t, 0.5)}, {"p99_us", quantile(t, 0.99)}}};
 }
 
-Row pipeline_row(const std::string& scale, BehaviorModel model) {
+// The default scene's organ (deploy/default.yaml): the liver, 4.5 cm long,
+// 16 nodes along it, its +x lobe four times stiffer, on the floor.
+HybridSpec organ_spec() {
   HybridSpec s;
+  s.shape = models::massspring::read_obj(HCOSIM_LIVER_OBJ);
+  s.size = 0.045, s.elements = 16, s.stiff_ratio = 4;
+  s.centre = Eigen::Vector3d(0, 0, 0.0075);
+  return s;
+}
+
+Row pipeline_row(const std::string& scale, BehaviorModel model) {
+  HybridSpec s = scale == "organ" ? organ_spec() : HybridSpec{};
   if (scale == "100x") s.elements = 46, s.visual_subdivisions = 300, s.map = VisualMap::trilinear;
   s.behavior_model = model;
   const auto b0 = Clock::now();
   Hybrid h(s);
   const double build_ms = us_since(b0) * 1e-3;
-  const Eigen::Vector3d top = s.centre + Eigen::Vector3d(0.002, 0.001, 0.5 * s.size);
+  const Eigen::Vector3d top(s.centre.x() + 0.002, s.centre.y() + 0.001, rest_box(s).max().z());
   std::vector<double> haptic, behavior, visual;
   int substeps = 0;
   DeformedMesh mesh;
@@ -114,6 +128,47 @@ Row pipeline_row(const std::string& scale, BehaviorModel model) {
            {"visual_frame_ms", quantile(visual, 0.5)},
            {"visual_frame_p99_ms", quantile(visual, 0.99)},
            {"build_ms", build_ms}}};
+}
+
+// The height of mesh x over (x, y): its highest crossing of a vertical line.
+double height(const Eigen::Matrix3Xd& x, const std::vector<Eigen::Vector3i>& triangles, const Eigen::Vector2d& at) {
+  double top = -1e300;
+  for (const Eigen::Vector3i& t : triangles) {
+    const Eigen::Vector3d a = x.col(t[0]), b = x.col(t[1]), c = x.col(t[2]);
+    const double det = (b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y());
+    if (det == 0) continue;
+    const double u = ((at.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (at.y() - a.y())) / det;
+    const double w = ((b.x() - a.x()) * (at.y() - a.y()) - (at.x() - a.x()) * (b.y() - a.y())) / det;
+    if (u >= 0 && w >= 0 && u + w <= 1) top = std::max(top, a.z() + u * (b.z() - a.z()) + w * (c.z() - a.z()));
+  }
+  return top;
+}
+
+// What is seen against what is felt: pressed from above at each point
+// (offsets from the centre, m) from 1 mm over the drawn surface to 4 mm
+// past it over 0.3 s and held 1.2 s, how far the drawn surface sank under
+// the proxy over how deep the stylus is past it (1: the surface follows
+// the stylus; the rest is the stylus drawn inside the object).
+Row seen_row(const std::string& body, const HybridSpec& s, const std::vector<Eigen::Vector2d>& points) {
+  std::vector<double> ratio;
+  for (const Eigen::Vector2d& p : points) {
+    Hybrid h(s);
+    const Eigen::Vector2d at = s.centre.head<2>() + p;
+    const double top = height(h.visual_rest().vertices, h.triangles(), at);
+    const Eigen::Vector3d above(at.x(), at.y(), top + 0.001);
+    Touch t;
+    for (int k = 0; k < 1500; ++k) {
+      t = h.touch(1e-3, above - Eigen::Vector3d(0, 0, 0.005 * std::min(1.0, (k + 1) / 300.0)), false);
+      h.advance();
+    }
+    if (!t.in_contact) throw std::runtime_error("bench hybrid: the " + body + " was not touched");
+    const Eigen::Vector2d under = h.proxy().head<2>();
+    ratio.push_back(
+        (height(h.visual_rest().vertices, h.triangles(), under) - height(h.surface(), h.triangles(), under)) / t.depth);
+  }
+  return {"seen_vs_felt",
+          {{"body", body}, {"points", double(points.size())}},
+          {{"min_ratio", *std::min_element(ratio.begin(), ratio.end())}, {"median_ratio", quantile(ratio, 0.5)}}};
 }
 
 // A press dent at the top centre and a bend, both smooth (m, world).
@@ -241,8 +296,20 @@ std::vector<Row> hybrid_rows(const Context& c) {
     progress("hybrid pipeline at " + scale + " scale (building the map)");
     rows.push_back(pipeline_row(scale, BehaviorModel::springs));
   }
+  progress("hybrid pipeline on the default scene's organ (building the map)");
+  rows.push_back(pipeline_row("organ", BehaviorModel::springs));
   progress("hybrid pipeline at seed scale, the FEM as the behavior model");
   rows.push_back(pipeline_row("seed", BehaviorModel::fem));
+  progress("hybrid surface seen against depth felt, the default scene's cube and organ");
+  {
+    HybridSpec cube;  // deploy/default.yaml's
+    cube.size = 0.03, cube.centre = Eigen::Vector3d(0, 0, 0.015);
+    const double q = 0.25 * cube.size;
+    rows.push_back(seen_row("cube", cube, {{0, 0}, {q, 0}, {-q, q}, {0, -q}}));
+    // The organ's right lobe, its middle and its stiff left lobe.
+    rows.push_back(
+        seen_row("organ", organ_spec(), {{-0.012, 0}, {-0.006, 0.004}, {0, 0}, {0.006, -0.002}, {0.012, 0}}));
+  }
   progress("hybrid visual maps on a known deformation");
   for (Row& r : visual_rows(c.quick)) rows.push_back(std::move(r));
   progress("hybrid S-Chain force against the behavior model's static force");
@@ -272,7 +339,8 @@ Suite hybrid_suite() {
       {"pipeline",
        "The whole model as the service runs it over a press, hold and release: haptic tick and behavior step at "
        "1 kHz, a visual frame every 33 ticks; `seed` is 001 Fig 7's scale, `100x` a hundred times more (trilinear "
-       "map: dense mean value weights of that size do not fit in memory); build_ms includes the map's weights; "
+       "map: dense mean value weights of that size do not fit in memory), `organ` the default scene's liver "
+       "(deploy/meshes/liver.obj, 4.5 cm, 16 nodes along it); build_ms includes the map's weights; "
        "behavior_substeps_most is the most substeps one behavior step took (its volume floors count only "
        "while pressed near them), behavior_substeps_bound what every step would take with all of them counted; "
        "`behavior` fem: the corotational FEM (10 kPa) as the behavior model, stepped by implicit Euler at 1 kHz."},
@@ -280,6 +348,11 @@ Suite hybrid_suite() {
        "Each visual map on a known smooth deformation (a press dent and a bend) of the cage: time for the whole "
        "map (median) against the RMS distance of mapped vertices from the deformation's own, over the RMS "
        "displacement; trilinear is the baseline in the same run."},
+      {"seen_vs_felt",
+       "What is seen against what is felt, on the default scene's cube (3 cm) and organ (the liver, 4.5 cm, 16 nodes "
+       "along it, its stiff lobe at +x): pressed from above at each of `points` points, 4 mm past the drawn surface "
+       "and held 1.2 s, how far the drawn surface sank under the proxy over the stylus's depth past it (1: the "
+       "surface follows the stylus; less: the stylus is drawn inside the object); the smallest and the median."},
       {"force_vs_behavior",
        "The force felt (the S-Chain's times the force gain, models/deformable/hybrid.h) against the behavior "
        "model's static force at the same depth, 0.5 to 25 mm at the top centre: the largest relative difference "
@@ -305,6 +378,13 @@ Suite hybrid_suite() {
       {"haptic tick p99 within 100 us at 001's scale", "pipeline", "haptic_p99_us", 100, "scale", "seed"},
       {"haptic tick p99 within 200 us at 100 times that", "pipeline", "haptic_p99_us", 200, "scale", "100x"},
       {"visual frame within 2 ms (median) at 001's scale", "pipeline", "visual_frame_ms", 2, "scale", "seed"},
+      {"haptic tick p99 within 100 us on the default scene's organ", "pipeline", "haptic_p99_us", 100, "scale",
+       "organ"},
+      {"visual frame within 2 ms (median) on the organ", "pipeline", "visual_frame_ms", 2, "scale", "organ"},
+      {"the drawn cube sinks under the stylus by half its depth or more", "seen_vs_felt", "min_ratio", 0.5, "body",
+       "cube", true},
+      {"the drawn organ sinks under the stylus by half its depth or more", "seen_vs_felt", "min_ratio", 0.5, "body",
+       "organ", true},
       {"no snap-through up to half the size (issue 26), springs", "press", "rises_to_mm", 50, "floors", "on", true},
       {"no snap-through up to half the size (issue 26), corotational FEM", "press", "rises_to_mm", 50, "behavior",
        "fem", true},

@@ -215,6 +215,10 @@ fs::path default_deployment(const fs::path& dir, int domain, double seconds, dou
 
   YAML::Node d = YAML::LoadFile((deploy / "default.yaml").string());
   d["domain"] = domain;
+  // The scene's files (the organ's mesh) are the deploy folder's.
+  for (auto o : d["scene"]["objects"])
+    if (o["mesh"] && fs::path(o["mesh"].as<std::string>()).is_relative())
+      o["mesh"] = (deploy / o["mesh"].as<std::string>()).string();
   d["mode"] = "realtime";
   d["duration"] = duration;
   for (auto s : d["services"]) {

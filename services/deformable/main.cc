@@ -147,9 +147,15 @@ int run(const Options& options) {
   for (const adapters::deformable::ObjectConfig& o : config.objects) {
     if (o.model == "hybrid") {
       const models::deformable::HybridSpec& s = o.hybrid;
-      std::printf("%s: hybrid, %d^3 chains and masses, %d visual vertices by %s; building the map (kept in %s)\n",
-                  o.name.c_str(), s.elements, 6 * s.visual_subdivisions * s.visual_subdivisions + 2,
-                  models::deformable::name(s.map), cache.c_str());
+      if (s.shape.triangles.empty())
+        std::printf("%s: hybrid, %d^3 chains and masses, %d visual vertices by %s; building the map (kept in %s)\n",
+                    o.name.c_str(), s.elements, 6 * s.visual_subdivisions * s.visual_subdivisions + 2,
+                    models::deformable::name(s.map), cache.c_str());
+      else
+        std::printf(
+            "%s: hybrid from a mesh, %d nodes along its longest side, %d visual vertices by %s; building the map "
+            "(kept in %s)\n",
+            o.name.c_str(), s.elements, int(s.shape.vertices.cols()), models::deformable::name(s.map), cache.c_str());
       std::fflush(stdout);
     }
     Item item;

@@ -65,11 +65,11 @@ deployment() {
   { echo "domain: $DOMAIN"; cat; } >"$WORK/$1"
 }
 
-# from_deploy FILE: deploy/FILE, with its scripts, into $WORK on the test's domain
+# from_deploy FILE: deploy/FILE, with its scripts and meshes, into $WORK on the test's domain
 from_deploy() {
   local root
   root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
-  cp -r "$root/deploy/scripts" "$WORK/"
+  cp -r "$root/deploy/scripts" "$root/deploy/meshes" "$WORK/"
   sed -E "s/^domain: .*/domain: $DOMAIN/" "$root/deploy/$1" >"$WORK/$1"
   grep -q "^domain: $DOMAIN$" "$WORK/$1" || fail "deploy/$1 has no top-level domain line to override"
 }

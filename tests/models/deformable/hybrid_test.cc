@@ -229,8 +229,8 @@ TEST(Hybrid, FarAndNanPointsAndAZeroStepAreHandled) {
   EXPECT_NEAR((fresh.proxy() - below_top).z(), 0.004, 1e-9);
 }
 
-// The default scene's organ: a 3 cm ellipsoid in its cage, the +x half
-// four times stiffer (deploy/default.yaml).
+// An organ-like 3 cm ellipsoid in its cage, the +x half four times stiffer
+// (001 Fig 8).
 HybridSpec organ(haptic::Friction f = {0.3, 0.3}) {
   HybridSpec s;
   s.size = 0.03;
