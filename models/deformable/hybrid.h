@@ -231,6 +231,7 @@ class Hybrid final : public Object {
   Eigen::Matrix3Xd tick_load_;                         // N, by mass: the last touch's
   Eigen::Matrix3Xd load_sum_;                          // N, by mass: summed over the touches since couple()
   int load_ticks_ = 0;                                 // touches summed
+  std::vector<int> tick_masses_, sum_masses_;          // the columns of tick_load_ and load_sum_ that may be nonzero
   std::vector<models::massspring::PointForce> loads_;  // the next behavior step's
   int simulated_ = 0;
   int substeps_ = 0;
