@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <Eigen/Geometry>
@@ -73,6 +74,21 @@ models::massspring::TriangleMesh rounded_box(int subdivisions, const Eigen::Vect
     m.vertices.col(v) = centre + half.cwiseProduct(q / r);
   }
   return m;
+}
+
+double height_over(const Eigen::Matrix3Xd& x, const std::vector<Eigen::Vector3i>& triangles,
+                   const Eigen::Vector2d& at) {
+  double top = -std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3i& t : triangles) {
+    const Eigen::Vector3d a = x.col(t[0]), b = x.col(t[1]), c = x.col(t[2]);
+    // Barycentric coordinates of `at` in the triangle's xy projection.
+    const double det = (b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y());
+    if (det == 0) continue;
+    const double u = ((at.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (at.y() - a.y())) / det;
+    const double w = ((b.x() - a.x()) * (at.y() - a.y()) - (at.x() - a.x()) * (b.y() - a.y())) / det;
+    if (u >= 0 && w >= 0 && u + w <= 1) top = std::max(top, a.z() + u * (b.z() - a.z()) + w * (c.z() - a.z()));
+  }
+  return top;
 }
 
 Eigen::Matrix3Xd vertex_normals(const Eigen::Matrix3Xd& x, const std::vector<Eigen::Vector3i>& triangles) {

@@ -37,6 +37,11 @@ GridSurface voxel_surface(const models::massspring::Voxels& voxels);
 models::massspring::TriangleMesh rounded_box(int subdivisions, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
                                              double exponent);
 
+// The height (m) of the mesh at positions x over the point `at` (x, y): the
+// highest z where the vertical line through it crosses a triangle;
+// -infinity where none does.
+double height_over(const Eigen::Matrix3Xd& x, const std::vector<Eigen::Vector3i>& triangles, const Eigen::Vector2d& at);
+
 // Unit area-weighted vertex normals of a triangle mesh at positions x; a
 // vertex whose triangles all collapsed gets +z rather than NaN.
 Eigen::Matrix3Xd vertex_normals(const Eigen::Matrix3Xd& x, const std::vector<Eigen::Vector3i>& triangles);

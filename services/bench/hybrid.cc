@@ -8,8 +8,12 @@
 //   normals and the DeformedMesh's floats),
 //   over a press, hold and release. `seed` is 001 Fig 7's scale, `100x` a
 //   hundred times more chains, masses and visual vertices (trilinear map:
-//   dense mean value weights of that size do not fit in memory), `organ`
+//   dense mean value weights of that size do not fit in memory; the seed
+//   scale's force gain), `organ`
 //   the default scene's liver (deploy/meshes/liver.obj).
+// against_fem: the seed's cube's behavior models (springs, FEM) pressed and
+//   released (and, full run, pulled), against the FEM of its tissue refined
+//   2 (--quick) or 3 times: the displacement error over time.
 // seen_vs_felt: the default scene's cube and organ pressed from above 4 mm
 //   past their drawn surface at a few points: how far the drawn surface
 //   sank under the proxy over the stylus's depth.
@@ -33,6 +37,7 @@
 
 #include "adapters/deformable/mesh_idl.h"
 #include "models/deformable/hybrid.h"
+#include "models/deformable/surface.h"
 #include "services/bench/bench.h"
 
 namespace hcosim::services::bench {
@@ -85,8 +90,18 @@ Row pipeline_row(const std::string& scale, BehaviorModel model) {
   HybridSpec s = scale == "organ" ? organ_spec() : HybridSpec{};
   if (scale == "100x") s.elements = 46, s.visual_subdivisions = 300, s.map = VisualMap::trilinear;
   s.behavior_model = model;
+  // At 100x the force gain is the seed scale's: computing its own settles
+  // 97,336 masses at 21 depths, over 20 minutes here, and the gain only
+  // scales the force, not what a tick costs.
+  GainSource gain;
+  if (scale == "100x")
+    gain = [](const HybridSpec& big) {
+      HybridSpec seed = big;
+      seed.elements = HybridSpec{}.elements;
+      return force_gain(seed);
+    };
   const auto b0 = Clock::now();
-  Hybrid h(s);
+  Hybrid h(s, {}, gain);
   const double build_ms = us_since(b0) * 1e-3;
   const Eigen::Vector3d top(s.centre.x() + 0.002, s.centre.y() + 0.001, rest_box(s).max().z());
   std::vector<double> haptic, behavior, visual;
@@ -130,20 +145,6 @@ Row pipeline_row(const std::string& scale, BehaviorModel model) {
            {"build_ms", build_ms}}};
 }
 
-// The height of mesh x over (x, y): its highest crossing of a vertical line.
-double height(const Eigen::Matrix3Xd& x, const std::vector<Eigen::Vector3i>& triangles, const Eigen::Vector2d& at) {
-  double top = -1e300;
-  for (const Eigen::Vector3i& t : triangles) {
-    const Eigen::Vector3d a = x.col(t[0]), b = x.col(t[1]), c = x.col(t[2]);
-    const double det = (b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y());
-    if (det == 0) continue;
-    const double u = ((at.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (at.y() - a.y())) / det;
-    const double w = ((b.x() - a.x()) * (at.y() - a.y()) - (at.x() - a.x()) * (b.y() - a.y())) / det;
-    if (u >= 0 && w >= 0 && u + w <= 1) top = std::max(top, a.z() + u * (b.z() - a.z()) + w * (c.z() - a.z()));
-  }
-  return top;
-}
-
 // What is seen against what is felt: pressed from above at each point
 // (offsets from the centre, m) from 1 mm over the drawn surface to 4 mm
 // past it over 0.3 s and held 1.2 s, how far the drawn surface sank under
@@ -154,7 +155,7 @@ Row seen_row(const std::string& body, const HybridSpec& s, const std::vector<Eig
   for (const Eigen::Vector2d& p : points) {
     Hybrid h(s);
     const Eigen::Vector2d at = s.centre.head<2>() + p;
-    const double top = height(h.visual_rest().vertices, h.triangles(), at);
+    const double top = height_over(h.visual_rest().vertices, h.triangles(), at);
     const Eigen::Vector3d above(at.x(), at.y(), top + 0.001);
     Touch t;
     for (int k = 0; k < 1500; ++k) {
@@ -164,11 +165,116 @@ Row seen_row(const std::string& body, const HybridSpec& s, const std::vector<Eig
     if (!t.in_contact) throw std::runtime_error("bench hybrid: the " + body + " was not touched");
     const Eigen::Vector2d under = h.proxy().head<2>();
     ratio.push_back(
-        (height(h.visual_rest().vertices, h.triangles(), under) - height(h.surface(), h.triangles(), under)) / t.depth);
+        (height_over(h.visual_rest().vertices, h.triangles(), under) - height_over(h.surface(), h.triangles(), under)) /
+        t.depth);
   }
   return {"seen_vs_felt",
           {{"body", body}, {"points", double(points.size())}},
           {{"min_ratio", *std::min_element(ratio.begin(), ratio.end())}, {"median_ratio", quantile(ratio, 0.5)}}};
+}
+
+// The hybrid cube's behavior models against a continuum (issue 26 item 3):
+// the default 10 cm cube, its floor anchored, pressed (sign -1) or pulled
+// (+1) with 0.5 N on a patch two cells wide at its top centre for 0.2 s,
+// then let go, to 0.4 s; its nodes sampled every 20 ms. The reference is
+// the FEM of the cube's tissue (HybridSpec::fem, 10 kPa) refined 2 times
+// (--quick) or 3, trapezoidal at 1 ms, read at the lattice's nodes.
+constexpr double kFemPatchN = 0.5, kFemPress = 0.2, kFemEnd = 0.4, kFemSample = 0.02;
+
+// The patch's load on a cube's top nodes (rest, m, its corner at the
+// origin or anywhere: only the top and the middle matter): a bilinear tent
+// one lattice cell (`cell`, m) wide about the top's centre, so that the
+// lattice and a refined mesh take the same resultant at the same place.
+std::vector<models::massspring::PointForce> patch(const Eigen::Matrix3Xd& rest, double cell, double sign) {
+  const Eigen::Vector3d lo = rest.rowwise().minCoeff(), hi = rest.rowwise().maxCoeff(), mid = 0.5 * (lo + hi);
+  std::vector<models::massspring::PointForce> out;
+  double sum = 0;
+  for (int i = 0; i < rest.cols(); ++i) {
+    if (rest(2, i) < hi.z() - 1e-9) continue;
+    const double w = std::max(0.0, 1 - std::abs(rest(0, i) - mid.x()) / cell) *
+                     std::max(0.0, 1 - std::abs(rest(1, i) - mid.y()) / cell);
+    if (w > 0) out.push_back({i, Eigen::Vector3d(0, 0, w)}), sum += w;
+  }
+  for (models::massspring::PointForce& f : out) f.force *= sign * kFemPatchN / sum;
+  return out;
+}
+
+// Samples at the lattice's nodes over the scene, and the wall time of the steps.
+struct FemTrace {
+  std::vector<Eigen::Matrix3Xd> samples;
+  double wall_s = 0;
+};
+
+template <class Step, class Sample>
+FemTrace scene_trace(double dt, Step&& step, Sample&& sample) {
+  FemTrace t;
+  const int steps = int(std::lround(kFemEnd / dt)), every = int(std::lround(kFemSample / dt));
+  for (int k = 0; k < steps; ++k) {
+    const auto t0 = Clock::now();
+    step(k * dt < kFemPress - 1e-12);
+    t.wall_s += us_since(t0) * 1e-6;
+    if ((k + 1) % every == 0) t.samples.push_back(sample());
+  }
+  return t;
+}
+
+// The cube's FEM refined r times (r = 1: on the hybrid's own nodes).
+FemTrace fem_cube(const HybridSpec& s, int r, models::fem::Scheme scheme, double sign) {
+  const int cells = s.elements - 1, n = cells * r + 1;
+  models::fem::Mesh m = models::fem::box_mesh(n, n, n, s.size / (n - 1));
+  for (int i = 0; i < m.size(); ++i) m.anchored[i] = i < n * n;
+  models::fem::Options o;
+  o.dt = 1e-3, o.scheme = scheme;
+  models::fem::Corotational f(m, s.fem, o);
+  models::massspring::State st = models::fem::rest_state(m);
+  const std::vector<models::massspring::PointForce> load = patch(m.rest, s.size / cells, sign), none;
+  const int e = s.elements;
+  return scene_trace(
+      o.dt, [&](bool loaded) { f.step(st, loaded ? load : none); },
+      [&] {
+        Eigen::Matrix3Xd x(3, e * e * e);
+        for (int k = 0; k < e; ++k)
+          for (int j = 0; j < e; ++j)
+            for (int i = 0; i < e; ++i) x.col(i + e * (j + e * k)) = st.x.col(r * i + n * (r * j + n * r * k));
+        x.colwise() -= Eigen::Vector3d::Constant(0.5 * s.size) - s.centre;
+        return x;
+      });
+}
+
+// RMS distance from the reference over its RMS displacement from rest.
+double against(const FemTrace& got, const FemTrace& ref, const Eigen::Matrix3Xd& rest) {
+  double num = 0, den = 0;
+  for (std::size_t k = 0; k < ref.samples.size(); ++k)
+    num += (got.samples[k] - ref.samples[k]).squaredNorm(), den += (ref.samples[k] - rest).squaredNorm();
+  return std::sqrt(num / den);
+}
+
+std::vector<Row> against_fem_rows(bool quick) {
+  HybridSpec s;  // the seed's cube, its tissue 10 kPa
+  const models::massspring::Lattice lat = hybrid_masses(s);
+  std::vector<Row> rows;
+  for (const double sign : quick ? std::vector<double>{-1} : std::vector<double>{-1, 1}) {
+    const std::string scene = sign < 0 ? "press" : "pull";
+    const int r = quick ? 2 : 3;
+    progress("hybrid against the FEM, " + scene + ": the reference, refined " + std::to_string(r) + " times");
+    const FemTrace ref = fem_cube(s, r, models::fem::Scheme::trapezoidal, sign);
+    auto add = [&](const std::string& model, const std::string& how, const FemTrace& t) {
+      rows.push_back({"against_fem",
+                      {{"model", model}, {"integrator", how}, {"scene", scene}, {"refinement", double(r)}},
+                      {{"rel_error", against(t, ref, lat.rest)}, {"ms_per_sim_s", t.wall_s * 1e3 / kFemEnd}}});
+    };
+    progress("hybrid against the FEM, " + scene + ": the reference refined once less, and the FEM behavior model");
+    add("fem_reference_coarser", "trapezoidal", fem_cube(s, r - 1, models::fem::Scheme::trapezoidal, sign));
+    add("fem", "implicit_euler", fem_cube(s, 1, models::fem::Scheme::implicit_euler, sign));
+    progress("hybrid against the FEM, " + scene + ": the springs");
+    models::massspring::Simulator sim(lat, s.behavior);
+    models::massspring::State st = models::massspring::rest_state(lat);
+    const std::vector<models::massspring::PointForce> load = patch(lat.rest, s.size / (s.elements - 1), sign), none;
+    add("springs", models::massspring::name(s.behavior.integrator),
+        scene_trace(
+            s.behavior.dt, [&](bool loaded) { sim.step(st, loaded ? load : none); }, [&] { return st.x; }));
+  }
+  return rows;
 }
 
 // A press dent at the top centre and a bend, both smooth (m, world).
@@ -310,6 +416,7 @@ std::vector<Row> hybrid_rows(const Context& c) {
     rows.push_back(
         seen_row("organ", organ_spec(), {{-0.012, 0}, {-0.006, 0.004}, {0, 0}, {0.006, -0.002}, {0.012, 0}}));
   }
+  for (Row& r : against_fem_rows(c.quick)) rows.push_back(std::move(r));
   progress("hybrid visual maps on a known deformation");
   for (Row& r : visual_rows(c.quick)) rows.push_back(std::move(r));
   progress("hybrid S-Chain force against the behavior model's static force");
@@ -348,6 +455,18 @@ Suite hybrid_suite() {
        "Each visual map on a known smooth deformation (a press dent and a bend) of the cage: time for the whole "
        "map (median) against the RMS distance of mapped vertices from the deformation's own, over the RMS "
        "displacement; trilinear is the baseline in the same run."},
+      {"against_fem",
+       "The hybrid cube's behavior models against a continuum (issue 26 item 3): the seed's 10 cm cube, floor "
+       "anchored, pressed (`scene` press) or pulled (pull, full run only) with 0.5 N on a patch two cells wide (a "
+       "bilinear tent) at its top centre for 0.2 s, then let go, to 0.4 s; rel_error is the RMS distance of its 1000 "
+       "nodes from the "
+       "reference's, sampled every 20 ms, over the reference's RMS displacement. The reference is the FEM of the "
+       "tissue the cube stands for (`HybridSpec::fem`: 10 kPa, Poisson 0.3, 1000 kg/m^3, mass damping 10/s) refined "
+       "`refinement` times (2 with --quick: 6859 nodes; 3: 21952), trapezoidal at 1 ms; `fem_reference_coarser` is "
+       "that FEM refined once less (its distance from the reference says how converged the reference is), `fem` the "
+       "FEM behavior model as the "
+       "hybrid steps it (implicit Euler at 1 ms), `springs` the default behavior model (symplectic Euler at 1 ms, "
+       "its adaptive threshold)."},
       {"seen_vs_felt",
        "What is seen against what is felt, on the default scene's cube (3 cm) and organ (the liver, 4.5 cm, 16 nodes "
        "along it, its stiff lobe at +x): pressed from above at each of `points` points, 4 mm past the drawn surface "

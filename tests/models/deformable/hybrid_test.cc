@@ -3,6 +3,7 @@
 // with the behavior model's, and abuse by the haptic point.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -47,6 +48,8 @@ TEST(HybridSurfaces, SeedMeshesAreClosedAndFaceOutward) {
   EXPECT_EQ(v.triangles.size(), 10800u);
   models::massspring::check_closed(v);
   EXPECT_GT(signed_volume(v.vertices, v.triangles), 0);
+  EXPECT_NEAR(height_over(v.vertices, v.triangles, {0, 0}), 1, 1e-12);  // the top face's centre
+  EXPECT_EQ(height_over(v.vertices, v.triangles, {2, 0}), -std::numeric_limits<double>::infinity());
   const Eigen::Matrix3Xd n = vertex_normals(v.vertices, v.triangles);
   for (int i = 0; i < n.cols(); ++i) ASSERT_GT(n.col(i).dot(v.vertices.col(i)), 0) << "vertex " << i;
 
@@ -291,20 +294,6 @@ HybridSpec loaf_spec() {
   return s;
 }
 
-// The height of the mesh x over (x, y): the highest crossing of a vertical line.
-double height(const Eigen::Matrix3Xd& x, const std::vector<Eigen::Vector3i>& triangles, const Eigen::Vector2d& at) {
-  double top = -1e300;
-  for (const Eigen::Vector3i& t : triangles) {
-    const Eigen::Vector3d a = x.col(t[0]), b = x.col(t[1]), c = x.col(t[2]);
-    const double det = (b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y());
-    if (det == 0) continue;
-    const double u = ((at.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (at.y() - a.y())) / det;
-    const double w = ((b.x() - a.x()) * (at.y() - a.y()) - (at.x() - a.x()) * (b.y() - a.y())) / det;
-    if (u >= 0 && w >= 0 && u + w <= 1) top = std::max(top, a.z() + u * (b.z() - a.z()) + w * (c.z() - a.z()));
-  }
-  return top;
-}
-
 TEST(HybridShape, AnOrganIsItsMeshPlacedAndFilledByItsCells) {
   const HybridSpec s = loaf_spec();
   const Hybrid h(s);
@@ -350,7 +339,7 @@ TEST(HybridShape, AnOrganIsTouchedOnItsDrawnSurfaceAndComesBack) {
   const HybridSpec s = loaf_spec();
   for (const Eigen::Vector2d at : {Eigen::Vector2d(0.01, -0.02), Eigen::Vector2d(0.02, -0.016)}) {
     Hybrid h(s);
-    const double top = height(h.visual_rest().vertices, h.triangles(), at);
+    const double top = height_over(h.visual_rest().vertices, h.triangles(), at);
     double entry = -1;
     for (double z = top + 0.002; z > top - 0.004 && entry < 0; z -= 2e-5)
       if (h.touch(1e-3, Eigen::Vector3d(at.x(), at.y(), z), false).in_contact) entry = z;
@@ -365,7 +354,7 @@ TEST(HybridShape, AnOrganIsTouchedOnItsDrawnSurfaceAndComesBack) {
     ASSERT_TRUE(t.in_contact);
     EXPECT_GT(t.force.z(), 0.05) << "at " << at.transpose();
     EXPECT_GT(t.force.normalized().dot(t.normal), std::cos(std::atan(0.5)) - 0.01) << "at " << at.transpose();
-    const double sunk = top - height(h.surface(), h.triangles(), at);
+    const double sunk = top - height_over(h.surface(), h.triangles(), at);
     EXPECT_GT(sunk, 0.5 * t.depth) << "the drawn surface gives way under the stylus, at " << at.transpose();
     for (int k = 0; k < 2000; ++k) h.touch(1e-3, above + Eigen::Vector3d(0, 0, 0.01), false), h.advance();
     EXPECT_LT((h.surface() - h.visual_rest().vertices).colwise().norm().maxCoeff(), 1e-4) << "at " << at.transpose();
