@@ -402,6 +402,7 @@ Hybrid::Hybrid(const HybridSpec& spec, const MapSource& map, const GainSource& g
   faces_ = std::make_unique<FaceGrid>(surface_, visual_.triangles, 2 * edge, 1e-9);
   tick_load_.setZero(3, lat.size());
   load_sum_.setZero(3, lat.size());
+  listed_.assign(lat.size(), 0);
 }
 
 Eigen::Vector3d Hybrid::proxy() const { return contact_.face < 0 ? last_hip_ : mesh_->point(surface_, contact_); }
@@ -427,7 +428,7 @@ Touch Hybrid::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
   last_hip_ = hip, has_last_ = true;
   // Only the masses the last touch loaded are cleared: at 100x a whole
   // matrix is 2.3 MB a tick.
-  for (const int m : tick_masses_) tick_load_.col(m).setZero();
+  for (const int m : tick_masses_) tick_load_.col(m).setZero(), listed_[m] &= ~kInTick;
   tick_masses_.clear();
   Eigen::Vector3d p, n, offset;
   if (contact_.face >= 0) {
@@ -462,13 +463,11 @@ Touch Hybrid::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
   for (int k = 0; k < 3; ++k)
     for (Weights::InnerIterator w(weights_, tri[k]); w; ++w) {
       const int m = cage_[w.col()];
-      if (tick_load_.col(m).isZero() && std::find(tick_masses_.begin(), tick_masses_.end(), m) == tick_masses_.end())
-        tick_masses_.push_back(m);
+      if (!(listed_[m] & kInTick)) listed_[m] |= kInTick, tick_masses_.push_back(m);
       tick_load_.col(m) -= at.bary[k] * w.value() * force;
     }
   for (const int m : tick_masses_) {
-    if (load_sum_.col(m).isZero() && std::find(sum_masses_.begin(), sum_masses_.end(), m) == sum_masses_.end())
-      sum_masses_.push_back(m);
+    if (!(listed_[m] & kInSum)) listed_[m] |= kInSum, sum_masses_.push_back(m);
     load_sum_.col(m) += tick_load_.col(m);
   }
   ++load_ticks_;
@@ -487,7 +486,7 @@ void Hybrid::couple() {
     std::sort(sum_masses_.begin(), sum_masses_.end());  // mass order, whatever the order of touches
     for (const int i : sum_masses_) {
       if (!load_sum_.col(i).isZero()) loads_.push_back({i, load_sum_.col(i) / load_ticks_});
-      load_sum_.col(i).setZero();
+      load_sum_.col(i).setZero(), listed_[i] &= ~kInSum;
     }
     sum_masses_.clear();
     load_ticks_ = 0;

@@ -9,6 +9,7 @@
 // underside.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -228,10 +229,12 @@ class Hybrid final : public Object {
   SurfacePoint contact_;
   Eigen::Vector3d last_hip_ = Eigen::Vector3d::Zero();
   bool has_last_ = false;
-  Eigen::Matrix3Xd tick_load_;                         // N, by mass: the last touch's
-  Eigen::Matrix3Xd load_sum_;                          // N, by mass: summed over the touches since couple()
-  int load_ticks_ = 0;                                 // touches summed
-  std::vector<int> tick_masses_, sum_masses_;          // the columns of tick_load_ and load_sum_ that may be nonzero
+  Eigen::Matrix3Xd tick_load_;                 // N, by mass: the last touch's
+  Eigen::Matrix3Xd load_sum_;                  // N, by mass: summed over the touches since couple()
+  int load_ticks_ = 0;                         // touches summed
+  std::vector<int> tick_masses_, sum_masses_;  // the columns of tick_load_ and load_sum_ that may be nonzero
+  static constexpr std::uint8_t kInTick = 1, kInSum = 2;
+  std::vector<std::uint8_t> listed_;                   // by mass: kInTick, kInSum, where it is listed
   std::vector<models::massspring::PointForce> loads_;  // the next behavior step's
   int simulated_ = 0;
   int substeps_ = 0;

@@ -337,7 +337,7 @@ TEST(HybridShape, AnOrganIsItsMeshPlacedAndFilledByItsCells) {
 // surface is back at rest within 0.1 mm 2 s after release.
 TEST(HybridShape, AnOrganIsTouchedOnItsDrawnSurfaceAndComesBack) {
   const HybridSpec s = loaf_spec();
-  for (const Eigen::Vector2d at : {Eigen::Vector2d(0.01, -0.02), Eigen::Vector2d(0.02, -0.016)}) {
+  for (const Eigen::Vector2d& at : {Eigen::Vector2d(0.01, -0.02), Eigen::Vector2d(0.02, -0.016)}) {
     Hybrid h(s);
     const double top = height_over(h.visual_rest().vertices, h.triangles(), at);
     double entry = -1;
