@@ -99,9 +99,10 @@ TEST(DeformableConfig, AnOrgansMeshIsReadAndItsMistakesNamedWhereItIsAsked) {
       {"objects: [{name: o, mesh: " + cube + ", map: trilinear}]\n", "mapped by mvc or mvc_sparse"},
       {"objects: [{name: o, mesh: " + dir.path.string() + "/none.obj}]\n", "d.yaml:1:27"},
   };
-  for (const auto& [text, expect] : cases)
-    EXPECT_NE(message_of([&] { deformable_config(params(text), 0.001); }).find(expect), std::string::npos)
-        << text << " -> " << message_of([&] { deformable_config(params(text), 0.001); });
+  for (const auto& c : cases) {
+    const std::string message = message_of([&] { deformable_config(params(c.first), 0.001); });
+    EXPECT_NE(message.find(c.second), std::string::npos) << c.first << " -> " << message;
+  }
 }
 
 TEST(DeformableConfig, MistakesAreNamedAtTheirPlace) {
