@@ -15,17 +15,21 @@ ObjectConfig object(const Config& o, double servo_dt, double tip_radius) {
   if (c.model == "hybrid") {
     o.allow_only({"name", "model", "centre", "size", "elements", "stiff_ratio", "map", "keep", "behavior_rate",
                   "visual_subdivisions", "rounding", "friction", "volume", "behavior", "young", "poisson", "density",
-                  "mesh"});
+                  "modes", "mesh"});
     models::deformable::HybridSpec& s = c.hybrid;
     s.centre = {centre[0], centre[1], centre[2]};
     s.size = o.number("size", s.size, 0.01, 2);
     s.elements = o.whole("elements", s.elements, 3, 100);
     s.stiff_ratio = o.number("stiff_ratio", s.stiff_ratio, 1, 100);
     s.volume = o.number("volume", s.volume, 0, 1000);
-    s.behavior_model = models::deformable::parse_behavior_model(o.text("behavior", "springs", {"springs", "fem"}));
+    s.behavior_model =
+        models::deformable::parse_behavior_model(o.text("behavior", "springs", {"springs", "fem", "modal"}));
     s.fem.young = o.number("young", s.fem.young, 10, 1e8);
     s.fem.poisson = o.number("poisson", s.fem.poisson, 0, 0.49);
     s.fem.density = o.number("density", s.fem.density, 1, 20000);
+    s.modes = o.whole("modes", s.modes, 1, models::fem::Modal::kMaxDofs);
+    if (o.has("modes") && s.behavior_model != models::deformable::BehaviorModel::modal)
+      o.fail("modes", "modes counts the modal behavior model's modes (behavior: modal)");
     s.map = models::deformable::parse_visual_map(o.text("map", "mvc_sparse", {"mvc", "mvc_sparse", "trilinear"}));
     s.keep = o.number("keep", s.keep, 0.5, 1);
     s.behavior.dt = 1 / o.number("behavior_rate", 1000, 10, 10000);

@@ -63,12 +63,22 @@ VisualMap parse_visual_map(const std::string& s) {
   throw std::invalid_argument("unknown visual map '" + s + "': one of mvc, mvc_sparse, trilinear");
 }
 
-const char* name(BehaviorModel m) { return m == BehaviorModel::fem ? "fem" : "springs"; }
+const char* name(BehaviorModel m) {
+  switch (m) {
+    case BehaviorModel::springs:
+      return "springs";
+    case BehaviorModel::fem:
+      return "fem";
+    case BehaviorModel::modal:
+      return "modal";
+  }
+  return "?";
+}
 
 BehaviorModel parse_behavior_model(const std::string& s) {
-  for (BehaviorModel m : {BehaviorModel::springs, BehaviorModel::fem})
+  for (BehaviorModel m : {BehaviorModel::springs, BehaviorModel::fem, BehaviorModel::modal})
     if (s == name(m)) return m;
-  throw std::invalid_argument("unknown behavior model '" + s + "': one of springs, fem");
+  throw std::invalid_argument("unknown behavior model '" + s + "': one of springs, fem, modal");
 }
 
 void check(const HybridSpec& s) {
@@ -78,6 +88,8 @@ void check(const HybridSpec& s) {
   need(s.stiff_ratio >= 1 && s.stiff_ratio <= 100, "stiff_ratio must be in [1, 100]");
   need(s.volume >= 0 && s.volume <= 1000, "volume must be in [0, 1000]");
   need(s.volume_floor > 0 && s.volume_floor <= 1, "volume_floor must be in (0, 1]");
+  need(s.modes >= 1 && s.modes <= models::fem::Modal::kMaxDofs,
+       "modes must be in [1, " + std::to_string(models::fem::Modal::kMaxDofs) + "]");
   need(s.visual_subdivisions >= 1 && s.visual_subdivisions <= 1000, "visual_subdivisions must be in [1, 1000]");
   need(s.keep > 0 && s.keep <= 1, "keep must be in (0, 1]");
   need(s.visual_tolerance >= 0 && s.visual_tolerance < s.size, "visual_tolerance must be in [0, size)");
@@ -180,15 +192,23 @@ namespace {
 
 // The behavior model of a spec with one mass held where it is put and the
 // rest settled to rest around it: implicit Euler at 1 s steps, each close
-// to a Newton step towards rest (CG to `tolerance`).
+// to a Newton step towards rest (CG to `tolerance`). The modal model's is
+// its kept modes' stiffness at the mass, in one step.
 class Held {
  public:
   Held(const HybridSpec& spec, int mass, double tolerance) : mass_(mass) {
-    if (spec.behavior_model == BehaviorModel::fem) {
+    if (spec.behavior_model != BehaviorModel::springs) {
       models::fem::Options o;
       o.dt = 1, o.tolerance = tolerance;
       fem_ = std::make_unique<models::fem::Corotational>(hybrid_mesh(spec), spec.fem, o);
       state_ = models::fem::rest_state(fem_->mesh());
+      if (spec.behavior_model == BehaviorModel::modal) {
+        need(mass >= 0 && mass < state_.x.cols(), "no mass " + std::to_string(mass));
+        stiffness_ = models::fem::Modal(*fem_, models::fem::ModalOptions{spec.behavior.dt, spec.modes})
+                         .compliance(mass)
+                         .inverse();
+        modal_ = true;
+      }
     } else {
       models::massspring::Options o;
       o.integrator = models::massspring::Integrator::implicit_euler;
@@ -203,6 +223,7 @@ class Held {
   // Puts the held mass at x and settles the rest until the holder's force
   // changes by under `change` of itself; returns that force (N).
   Eigen::Vector3d settle(const Eigen::Vector3d& x, double change) {
+    if (modal_) return -stiffness_ * (x - rest().col(mass_));
     state_.x.col(mass_) = x;
     Eigen::Vector3d last = Eigen::Vector3d::Constant(1e300);
     for (int k = 0; k < 1000; ++k) {
@@ -220,6 +241,8 @@ class Held {
   std::unique_ptr<models::massspring::Simulator> springs_;
   std::unique_ptr<models::fem::Corotational> fem_;
   models::massspring::State state_;
+  bool modal_ = false;
+  Eigen::Matrix3d stiffness_;  // N/m, the modal model's at the mass
 };
 
 }  // namespace
@@ -252,7 +275,8 @@ std::vector<double> gain_inputs(const HybridSpec& s) {
                          s.fem.poisson,
                          s.fem.density,
                          s.fem.alpha,
-                         s.fem.beta};
+                         s.fem.beta,
+                         double(s.modes)};
   for (int v = 0; v < s.shape.vertices.cols(); ++v)
     for (int c = 0; c < 3; ++c) in.push_back(s.shape.vertices(c, v));
   for (const Eigen::Vector3i& t : s.shape.triangles)
@@ -354,10 +378,14 @@ Hybrid::Hybrid(const HybridSpec& spec, const MapSource& map, const GainSource& g
        "the force gain needs two or more depths and a gain at each");
   masses_ = std::make_unique<models::massspring::Simulator>(hybrid_masses(spec), spec.behavior);
   state_ = models::massspring::rest_state(masses_->lattice());
-  if (spec.behavior_model == BehaviorModel::fem) {
+  if (spec.behavior_model != BehaviorModel::springs) {
     models::fem::Options o;
     o.dt = spec.behavior.dt;
     fem_ = std::make_unique<models::fem::Corotational>(hybrid_mesh(spec), spec.fem, o);
+  }
+  if (spec.behavior_model == BehaviorModel::modal) {
+    modal_ = std::make_unique<models::fem::Modal>(*fem_, models::fem::ModalOptions{spec.behavior.dt, spec.modes});
+    fem_.reset();
   }
   const Eigen::AlignedBox3d box = rest_box(spec);
   lo_ = box.min(), hi_ = box.max();
@@ -494,6 +522,11 @@ void Hybrid::couple() {
 }
 
 void Hybrid::integrate() {
+  if (modal_) {
+    modal_->step(state_, loads_);
+    simulated_ = int(state_.x.cols()), substeps_ = 1;
+    return;
+  }
   if (fem_) {
     fem_->step(state_, loads_);
     simulated_ = int(state_.x.cols()), substeps_ = 1;

@@ -19,6 +19,7 @@
 #include "models/deformable/proxy.h"
 #include "models/deformable/schain.h"
 #include "models/fem/corotational.h"
+#include "models/fem/modal.h"
 #include "models/haptic/friction.h"
 #include "models/massspring/mesh_lattice.h"
 #include "models/massspring/simulator.h"
@@ -32,9 +33,10 @@ enum class VisualMap { mvc, mvc_sparse, trilinear };
 const char* name(VisualMap map);
 VisualMap parse_visual_map(const std::string& name);  // throws std::invalid_argument listing the names
 
-// The behavior model: 001 §II.A's mass-spring lattice, or a corotational
-// FEM of a material (models/fem) on the same nodes (issue 26 item 3).
-enum class BehaviorModel { springs, fem };
+// The behavior model: 001 §II.A's mass-spring lattice, a corotational
+// FEM of a material (models/fem) on the same nodes (issue 26 item 3), or
+// that FEM's lowest modes about rest (models/fem/modal.h).
+enum class BehaviorModel { springs, fem, modal };
 const char* name(BehaviorModel model);
 BehaviorModel parse_behavior_model(const std::string& name);  // throws std::invalid_argument listing the names
 
@@ -83,6 +85,13 @@ struct HybridSpec {
   // mass damping 10/s.
   BehaviorModel behavior_model = BehaviorModel::springs;
   models::fem::Material fem{10e3, 0.3, 1000, 10, 0};
+  // With BehaviorModel::modal, the lowest `modes` of that FEM linearised
+  // at rest, each stepped exactly at behavior.dt (stable at any rate, the
+  // cheapest per step; small strains only: no recovery from inversion).
+  // Its eigensolve is dense, once, when the object is built: the
+  // lattice's free nodes at most fem::Modal::kMaxDofs / 3 (the seed's
+  // cube's 900 take about half a minute).
+  int modes = 32;
   int visual_subdivisions = 30;           // the cube's: 6 s^2 + 2 vertices, 12 s^2 triangles (30: 5402 and 10800)
   double visual_exponent = 8;             // rounding of the visual cube's edges (rounded_box)
   VisualMap map = VisualMap::mvc_sparse;  // a shape's: mvc or mvc_sparse
@@ -141,7 +150,7 @@ ForceGain force_gain(const HybridSpec& spec);
 std::vector<double> gain_inputs(const HybridSpec& spec);
 // Raised whenever force_gain computes differently from the same spec, so
 // that gains kept on disk by an older build are computed again.
-constexpr int kForceGainVersion = 1;
+constexpr int kForceGainVersion = 2;
 using GainSource = std::function<ForceGain(const HybridSpec&)>;
 
 // The visual map of mean value weights (truncated for mvc_sparse) from the
@@ -215,6 +224,7 @@ class Hybrid final : public Object {
   ForceGain gain_;
   std::unique_ptr<models::massspring::Simulator> masses_;  // its lattice gives either model's nodes
   std::unique_ptr<models::fem::Corotational> fem_;         // BehaviorModel::fem
+  std::unique_ptr<models::fem::Modal> modal_;              // BehaviorModel::modal
   models::massspring::State state_;
   models::massspring::TriangleMesh visual_;
   std::vector<int> cage_;  // masses whose positions the map reads, in its column order

@@ -280,8 +280,7 @@ Corotational::Corotational(Mesh mesh, const Material& material, const Options& o
 
 Corotational::~Corotational() = default;
 
-StepInfo Corotational::step(models::massspring::State& s, const std::vector<models::massspring::PointForce>& loads) {
-  const int n = impl_->mesh.size();
+void check_step(int n, const models::massspring::State& s, const std::vector<models::massspring::PointForce>& loads) {
   need(s.x.cols() == n && s.v.cols() == n,
        "the state has " + std::to_string(s.x.cols()) + " nodes, the mesh " + std::to_string(n));
   need(s.x.allFinite() && s.v.allFinite(), "the state must be finite");
@@ -289,6 +288,10 @@ StepInfo Corotational::step(models::massspring::State& s, const std::vector<mode
     need(p.mass >= 0 && p.mass < n, "a load on node " + std::to_string(p.mass) + ", the mesh has " + std::to_string(n));
     need(p.force.allFinite(), "a non-finite load on node " + std::to_string(p.mass));
   }
+}
+
+StepInfo Corotational::step(models::massspring::State& s, const std::vector<models::massspring::PointForce>& loads) {
+  check_step(impl_->mesh.size(), s, loads);
   return impl_->step(s, loads);
 }
 
@@ -320,6 +323,20 @@ double Corotational::energy(const Eigen::Matrix3Xd& x) const {
     sum += 0.5 * u.dot(e.k * u);
   }
   return sum;
+}
+
+Eigen::SparseMatrix<double> Corotational::rest_stiffness() const {
+  const Impl& m = *impl_;
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(m.elements.size() * 144);
+  for (const Impl::Element& e : m.elements)
+    for (int p = 0; p < 4; ++p)
+      for (int q = 0; q < 4; ++q)
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 3; ++c) t.emplace_back(3 * e.c[p] + r, 3 * e.c[q] + c, e.k(3 * p + r, 3 * q + c));
+  Eigen::SparseMatrix<double> k(3 * m.mesh.size(), 3 * m.mesh.size());
+  k.setFromTriplets(t.begin(), t.end());
+  return k;
 }
 
 const Mesh& Corotational::mesh() const { return impl_->mesh; }

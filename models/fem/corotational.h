@@ -16,6 +16,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
 #include "models/massspring/forces.h"
 #include "models/massspring/simulator.h"
@@ -91,6 +92,11 @@ class Corotational {
   // J: the corotated elastic energy at x.
   double energy(const Eigen::Matrix3Xd& x) const;
 
+  // N/m: the linear stiffness at rest, 3 x size() square (node i's x, y, z
+  // at 3i, 3i+1, 3i+2), anchored nodes included: the Hessian of energy()
+  // at the rest shape, which Modal reduces.
+  Eigen::SparseMatrix<double> rest_stiffness() const;
+
   const Mesh& mesh() const;
   const Eigen::VectorXd& mass() const;  // kg per node, lumped
   const Material& material() const;
@@ -100,6 +106,11 @@ class Corotational {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// Throws std::invalid_argument naming the problem unless `state` has
+// `nodes` nodes, all finite, and every load is finite and on one of them.
+void check_step(int nodes, const models::massspring::State& state,
+                const std::vector<models::massspring::PointForce>& loads);
 
 // At rest: positions the mesh's rest, velocities zero.
 models::massspring::State rest_state(const Mesh& mesh);

@@ -11,7 +11,7 @@
 //   dense mean value weights of that size do not fit in memory; the seed
 //   scale's force gain), `organ`
 //   the default scene's liver (deploy/meshes/liver.obj).
-// against_fem: the seed's cube's behavior models (springs, FEM) pressed and
+// against_fem: the seed's cube's behavior models (springs, FEM, modal) pressed and
 //   released (and, full run, pulled), against the FEM of its tissue refined
 //   2 (--quick) or 3 times: the displacement error over time.
 // seen_vs_felt: the default scene's cube and organ pressed from above 4 mm
@@ -139,7 +139,7 @@ Row pipeline_row(const std::string& scale, BehaviorModel model) {
            {"behavior_p50_us", quantile(behavior, 0.5)},
            {"behavior_p99_us", quantile(behavior, 0.99)},
            {"behavior_substeps_most", double(substeps)},
-           {"behavior_substeps_bound", model == BehaviorModel::fem ? 1.0 : double(h.behavior().substeps())},
+           {"behavior_substeps_bound", model != BehaviorModel::springs ? 1.0 : double(h.behavior().substeps())},
            {"visual_frame_ms", quantile(visual, 0.5)},
            {"visual_frame_p99_ms", quantile(visual, 0.99)},
            {"build_ms", build_ms}}};
@@ -273,6 +273,16 @@ std::vector<Row> against_fem_rows(bool quick) {
     add("springs", models::massspring::name(s.behavior.integrator),
         scene_trace(
             s.behavior.dt, [&](bool loaded) { sim.step(st, loaded ? load : none); }, [&] { return st.x; }));
+    progress("hybrid against the FEM, " + scene + ": the modal behavior model");
+    const models::fem::Corotational linear(hybrid_mesh(s), s.fem, {});
+    for (const int modes : {s.modes, 4 * s.modes}) {
+      const models::fem::Modal modal(linear, models::fem::ModalOptions{s.behavior.dt, modes});
+      models::massspring::State ms = models::fem::rest_state(linear.mesh());
+      add("modal", "exact",
+          scene_trace(
+              s.behavior.dt, [&](bool loaded) { modal.step(ms, loaded ? load : none); }, [&] { return ms.x; }));
+      rows.back().params.push_back({"modes", double(modes)});
+    }
   }
   return rows;
 }
@@ -406,6 +416,8 @@ std::vector<Row> hybrid_rows(const Context& c) {
   rows.push_back(pipeline_row("organ", BehaviorModel::springs));
   progress("hybrid pipeline at seed scale, the FEM as the behavior model");
   rows.push_back(pipeline_row("seed", BehaviorModel::fem));
+  progress("hybrid pipeline at seed scale, the FEM's lowest modes as the behavior model");
+  rows.push_back(pipeline_row("seed", BehaviorModel::modal));
   progress("hybrid surface seen against depth felt, the default scene's cube and organ");
   {
     HybridSpec cube;  // deploy/default.yaml's
@@ -450,7 +462,8 @@ Suite hybrid_suite() {
        "(deploy/meshes/liver.obj, 4.5 cm, 16 nodes along it); build_ms includes the map's weights; "
        "behavior_substeps_most is the most substeps one behavior step took (its volume floors count only "
        "while pressed near them), behavior_substeps_bound what every step would take with all of them counted; "
-       "`behavior` fem: the corotational FEM (10 kPa) as the behavior model, stepped by implicit Euler at 1 kHz."},
+       "`behavior` fem: the corotational FEM (10 kPa) as the behavior model, stepped by implicit Euler at 1 kHz; "
+       "modal: its 32 lowest modes about rest, each stepped exactly at 1 kHz (build_ms includes the eigensolve)."},
       {"visual_map",
        "Each visual map on a known smooth deformation (a press dent and a bend) of the cage: time for the whole "
        "map (median) against the RMS distance of mapped vertices from the deformation's own, over the RMS "
@@ -466,7 +479,8 @@ Suite hybrid_suite() {
        "that FEM refined once less (its distance from the reference says how converged the reference is), `fem` the "
        "FEM behavior model as the "
        "hybrid steps it (implicit Euler at 1 ms), `springs` the default behavior model (symplectic Euler at 1 ms, "
-       "its adaptive threshold)."},
+       "its adaptive threshold), `modal` that FEM's lowest `modes` about rest (the default 32, and 128), each "
+       "stepped exactly at 1 ms."},
       {"seen_vs_felt",
        "What is seen against what is felt, on the default scene's cube (3 cm) and organ (the liver, 4.5 cm, 16 nodes "
        "along it, its stiff lobe at +x): pressed from above at each of `points` points, 4 mm past the drawn surface "

@@ -31,7 +31,10 @@
 // the lattice's masses (the fine mesh's nodes in the same places). The
 // `fem_reference` row reports the reference's own change when its mesh is
 // one refinement coarser (ref_space_error) and its step twice as long
-// (ref_time_error); against_fem_static the same press settled.
+// (ref_time_error); against_fem_static the same press settled. Beside the
+// springs, the FEM on the lattice's own nodes and Bullet's soft body, the
+// `modal` rows are that FEM's linear modal reduction (models/fem/modal.h)
+// over the modes kept and the step.
 //
 // adaptive: the adaptive model against the full one with the same
 // integrator and step, as the threshold falls, on a 12^3 box (anchored
@@ -49,6 +52,7 @@
 
 #include "models/deformable/elastic_surface.h"
 #include "models/fem/corotational.h"
+#include "models/fem/modal.h"
 #include "models/massspring/quartet.h"
 #include "models/massspring/simulator.h"
 #include "services/bench/bench.h"
@@ -573,8 +577,36 @@ std::vector<Row> fem_rows(const Context& c, const TopLoad& scene) {
       progress(what + "the FEM on the lattice's nodes, " + name + ", dt " + fmt(dt));
       add("fem", name, dt, 0, measure([&] { return run_fem(1, dt, scheme, scene); }, 3));
     }
-  // Each Bullet row: its time over that of our fastest row (springs or
-  // FEM) whose error is no larger; 0 where none of ours is as close.
+  // The FEM's linear modal reduction (models/fem/modal.h) on the same
+  // nodes and solid, over the modes kept and the step: each step exact
+  // for a load held over it, as this scene's is.
+  const FemCube nodes = fem_cube(1);
+  const fem::Corotational linearised(nodes.mesh, cont, {});
+  const std::vector<ms::PointForce> node_load = patch_load(nodes.mesh.rest, kSpacing, scene);
+  for (const int modes : {8, 32, 3 * int(std::count(nodes.mesh.anchored.begin(), nodes.mesh.anchored.end(), 0))})
+    for (const double dt : {1e-3, 5e-3, 2e-2}) {
+      progress(what + "the FEM's " + std::to_string(modes) + " lowest modes, dt " + fmt(dt));
+      const fem::Modal modal(linearised, fem::ModalOptions{dt, modes});
+      const Trace t = measure(
+          [&] {
+            ms::State st = fem::rest_state(nodes.mesh);
+            return timeline(
+                dt, [&](bool loaded) { modal.step(st, loaded ? node_load : none); },
+                [&] { return nodes.sample(st.x); });
+          },
+          3);
+      rows.push_back({"against_fem",
+                      {{"model", std::string("modal")},
+                       {"integrator", std::string("exact")},
+                       {"dt", dt},
+                       {"threshold", 0.0},
+                       {"modes", double(modes)}},
+                      {{"rel_error", trace_error(t, ref, l.rest)},
+                       {"ms_per_sim_s", t.wall_s * 1e3 / kDuration},
+                       {"substeps", 1.0}}});
+    }
+  // Each Bullet row: its time over that of our fastest row (springs, FEM
+  // or modes) whose error is no larger; 0 where none of ours is as close.
   // against_fem rows: params[0] the model; metrics rel_error, ms_per_sim_s.
   auto model = [](const Row& r) { return std::get<std::string>(r.params[0].second); };
   for (Row& b : rows) {
@@ -588,7 +620,7 @@ std::vector<Row> fem_rows(const Context& c, const TopLoad& scene) {
     std::string match = best ? "" : "none";
     if (best)
       for (const auto& [k, v] : best->params)
-        if (k == "model" || k == "integrator" || k == "dt" || k == "threshold")
+        if (k == "model" || k == "integrator" || k == "dt" || k == "threshold" || k == "modes")
           match += (match.empty() ? "" : " ") + k + "=" + text(v);
     b.params.push_back({"matched_by", match});
   }
@@ -720,7 +752,8 @@ Suite massspring_suite() {
                "top's centre 2 x 2 cm patch pressed (`scene` press) or, without --quick, also pulled up (pull) "
                "with 0.2 N for 0.1 s then let go, 0.2 s simulated: the "
                "positions' relative error from the FEM reference at the masses, every 20 ms, per behavior model "
-               "(`springs`: the mass-spring lattice; `fem`: the FEM on the lattice's own nodes; `bullet`: Bullet "
+               "(`springs`: the mass-spring lattice; `fem`: the FEM on the lattice's own nodes; `modal`: that FEM's "
+               "lowest `modes` vibration modes, linearised at rest and stepped exactly; `bullet`: Bullet "
                "3.24's btSoftBody with a link along every tetrahedron edge, over its stiffness coefficient kLST and "
                "position iterations), integrator, step and adaptive threshold, against wall ms per simulated s "
                "(median of 3 runs); a Bullet row's speedup_at_equal_error is its time over our fastest row with no "

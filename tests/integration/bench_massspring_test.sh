@@ -33,6 +33,19 @@ for shape in semisphere sheet; do
 done
 grep -qE "\"shape\":\"semisphere\",\"model\":\"membrane\",[^}]*\},\"metrics\":\{\"off_1s_mm\":$num,\"off_2s_mm\":[1-9][0-9.]*," "$f" ||
   fail "the dome without hinges recovered: the recovery rows cannot tell"
+# against_fem: the modal reduction's rows beside the springs', the FEM's
+# and Bullet's, every Bullet row with its speed-up at equal error.
+for modes in 8 32 300; do
+  grep -qE "\"name\":\"against_fem\",\"params\":\{\"model\":\"modal\",[^}]*\"modes\":$modes\.0,[^}]*\},\"metrics\":\{\"rel_error\":$num,\"ms_per_sim_s\":$num" "$f" ||
+    fail "no against_fem row for the $modes lowest modes"
+done
+[ "$(grep -oE "\"model\":\"bullet\",[^}]*\},\"metrics\":\{[^}]*\"speedup_at_equal_error\":$num" "$f" | wc -l)" -eq 9 ] ||
+  fail "not every Bullet row has its speed-up at equal error"
+# 32 modes of the FEM are closer to the continuum than any springs row.
+jq -e '[.rows[] | select(.name == "against_fem")] as $r
+  | ([$r[] | select(.params.model == "modal" and .params.modes == 32) | .metrics.rel_error] | max)
+    < ([$r[] | select(.params.model == "springs") | .metrics.rel_error] | min)' "$f" >/dev/null ||
+  fail "the 32-mode rows are no closer to the FEM reference than the springs"
 # The reference has converged far below the errors it judges.
 grep -oE "\"ref_self_error\":$num" "$f" | cut -d: -f2 | awk '$1 > 1e-4 { bad = 1 } END { exit bad }' ||
   fail "reference not converged: $(grep -oE "\"ref_self_error\":$num" "$f")"

@@ -38,6 +38,10 @@ TEST(DeformableConfig, ReadsEachObjectsSpec) {
   EXPECT_EQ(deformable_config(params("objects: [{name: a}]\n"), 0.001).objects[0].hybrid.volume,
             models::deformable::HybridSpec{}.volume);  // volume floors by default
   EXPECT_GT(models::deformable::HybridSpec{}.volume, 0);
+  const models::deformable::HybridSpec modal =
+      deformable_config(params("objects: [{name: a, behavior: modal, modes: 12}]\n"), 0.001).objects[0].hybrid;
+  EXPECT_EQ(modal.behavior_model, models::deformable::BehaviorModel::modal);
+  EXPECT_EQ(modal.modes, 12);
   EXPECT_EQ(h.map, models::deformable::VisualMap::trilinear);
   EXPECT_DOUBLE_EQ(h.behavior.dt, 0.002);
   EXPECT_EQ(h.centre, Eigen::Vector3d(0, 0, 0.05));  // a hybrid stands on the marker by default
@@ -126,6 +130,10 @@ TEST(DeformableConfig, MistakesAreNamedAtTheirPlace) {
   EXPECT_EQ(error("objects: [{name: a, behavior: fem, poisson: 0.5}]\n"),
             "d.yaml:1:45: 'poisson' = 0.5 is outside [0, 0.49]");
   EXPECT_EQ(error("objects: [{name: a, behavior: soft}]\n").rfind("d.yaml:1:31: 'behavior'", 0), 0u);
+  EXPECT_EQ(error("objects: [{name: a, modes: 8}]\n"),
+            "d.yaml:1:28: modes counts the modal behavior model's modes (behavior: modal)");
+  EXPECT_EQ(error("objects: [{name: a, behavior: modal, modes: 0}]\n"),
+            "d.yaml:1:45: 'modes' must be a whole number from 1 to 4500, not 0");
   EXPECT_EQ(error("objects: [{name: a, friction: 11}]\n"), "d.yaml:1:31: 'friction' = 11 is outside [0, 10]");
   EXPECT_EQ(error("tip_radius: 0.008\nobjects: [{name: a, size: 0.015}]\n"),
             "d.yaml:2:27: the object must be wider than the stylus tip (tip_radius)");

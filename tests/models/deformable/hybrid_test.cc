@@ -214,6 +214,42 @@ TEST(Hybrid, AFemBehaviorModelIsFeltAsItsStaticForceAndComesBack) {
   EXPECT_THROW(parse_behavior_model("jelly"), std::invalid_argument);
 }
 
+// With the FEM's lowest modes as its behavior model, the same: felt as
+// its static force, deformed under the load, back at rest once let go;
+// and a small press (0.5 mm, where rotations do not matter) statically
+// as stiff as the corotational FEM's with every mode, stiffer with fewer.
+TEST(Hybrid, AModalBehaviorModelIsFeltAsItsStaticForceAndComesBack) {
+  HybridSpec s = quick();
+  s.elements = 6;
+  s.behavior_model = BehaviorModel::modal;
+  s.modes = 16;
+  Hybrid h(s);
+  const Eigen::Vector3d r = h.haptic().lattice().rest(top(s));
+  Touch t;
+  double z = r.z() + 0.001;
+  while (!(t = h.touch(1e-3, Eigen::Vector3d(r.x(), r.y(), z), false)).in_contact) h.advance(), z -= 1e-5;
+  const double surface = h.proxy().z(), depth = 0.003;
+  for (int k = 0; k < 300; ++k) {
+    t = h.touch(1e-3, Eigen::Vector3d(r.x(), r.y(), surface - depth * std::min(1.0, (k + 1) / 100.0)), false);
+    h.advance();
+  }
+  const double modal = behavior_static_force(s, top(s), Eigen::Vector3d(0, 0, -depth)).z();
+  EXPECT_NEAR(t.force.z() / modal, 1, 0.15) << "felt " << t.force.z() << " N, modal " << modal << " N";
+  EXPECT_LT(h.state().x.col(top(s)).z(), h.behavior().lattice().rest.col(top(s)).z() - 0.5 * depth);
+  for (int k = 0; k < 2000; ++k) h.touch(1e-3, s.centre + Eigen::Vector3d(0, 0, 0.2), false), h.advance();
+  EXPECT_LT((h.state().x - h.behavior().lattice().rest).cwiseAbs().maxCoeff(), 1e-5);
+  EXPECT_EQ(parse_behavior_model("modal"), BehaviorModel::modal);
+
+  const Eigen::Vector3d small(0, 0, -5e-4);
+  HybridSpec all = s, fem = s;
+  all.modes = 3 * (s.elements * s.elements * (s.elements - 1));  // every free node's
+  fem.behavior_model = BehaviorModel::fem;
+  const double f_all = behavior_static_force(all, top(s), small).z(),
+               f_fem = behavior_static_force(fem, top(s), small).z();
+  EXPECT_NEAR(f_all / f_fem, 1, 0.01) << "every mode " << f_all << " N, FEM " << f_fem << " N";
+  EXPECT_GT(behavior_static_force(s, top(s), small).z(), f_all);
+}
+
 TEST(Hybrid, FarAndNanPointsAndAZeroStepAreHandled) {
   const HybridSpec s = quick();
   Hybrid h(s);
