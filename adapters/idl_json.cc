@@ -180,6 +180,10 @@ Json json_of(const ServiceStatus& s) {
   j["samples_rejected"] = s.samples_rejected();
   j["last_rejection"] = text(s.last_rejection());
   j["outputs_skipped"] = s.outputs_skipped();
+  j["outputs_shed"] = s.outputs_shed();
+  j["scheduling"] = text(s.scheduling());
+  j["in_tick_ratio"] = s.in_tick_ratio();
+  j["force_error_p99_n"] = s.force_error_p99_n();
   return j;
 }
 

@@ -9,6 +9,8 @@ set -euo pipefail
 # clang, libclang-rt-14-dev: the sanitizer build and libFuzzer (deploy/fuzz.sh).
 # openssl: hcosim security init; tshark: the wire test of DDS Security.
 # clang-format-14: deploy/format.sh (.ci/run checks the formatting).
+# libzstd-dev, liblz4-dev, zlib1g-dev: MCAP recordings' chunks and CRCs.
+# nodejs, npm (only where no node is installed): the MCAP test clients.
 packages=(
   build-essential cmake ninja-build ccache pkg-config
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
@@ -16,14 +18,29 @@ packages=(
   libmujoco-dev libbullet-dev libqhull-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev googletest libgtest-dev
   libbenchmark-dev
   cyclonedds-dev cyclonedds-tools jq clang libclang-rt-14-dev
-  openssl tshark clang-format-14
+  openssl tshark clang-format-14 libzstd-dev liblz4-dev zlib1g-dev
 )
+command -v npm >/dev/null || packages+=(nodejs npm)
+
+# MCAP's and Foxglove's npm libraries for integration.mcap, as the
+# lockfile pins them; a machine without the npm registry skips that test.
+npm_clients() {
+  local dir
+  dir="$(cd "$(dirname "$0")/.." && pwd)/tests/interop/mcap"
+  [ "$dir/node_modules/.package-lock.json" -nt "$dir/package-lock.json" ] && return 0
+  echo "hcosim setup: npm ci in tests/interop/mcap (the MCAP test clients)"
+  (cd "$dir" && npm ci --no-audit --no-fund --ignore-scripts --loglevel=error >/dev/null) ||
+    echo "hcosim setup: npm ci failed: integration.mcap will be skipped" >&2
+}
 
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
-[ ${#missing[@]} -eq 0 ] && exit 0
+if [ ${#missing[@]} -eq 0 ]; then
+  npm_clients
+  exit 0
+fi
 
 echo "hcosim setup: installing ${#missing[@]} missing package(s): ${missing[*]}"
 sudo=()
@@ -31,4 +48,5 @@ sudo=()
 export DEBIAN_FRONTEND=noninteractive
 "${sudo[@]}" apt-get update -qq
 "${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+npm_clients
 echo "hcosim setup: done"

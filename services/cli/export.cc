@@ -115,6 +115,9 @@ int export_recording(const ExportOptions& o) {
   }
   std::cerr << "hcosim export: " << records.size() << " " << topic << " samples of " << total << " in " << o.file
             << "\n";
+  if (in.skipped())
+    std::cerr << "hcosim export: " << in.skipped() << " messages of MCAP channels that carry no hcosim topic in CDR "
+              << "skipped\n";
   return 0;
 }
 
@@ -139,6 +142,9 @@ int replay(const ReplayOptions& o) {
   for (runtime::Record r; in.next(r);)
     if (topics.empty() || std::find(topics.begin(), topics.end(), r.topic) != topics.end())
       records.push_back(std::move(r));
+  if (in.skipped())
+    std::cerr << "hcosim replay: " << in.skipped() << " messages of MCAP channels that carry no hcosim topic in CDR "
+              << "skipped\n";
   if (records.empty()) throw std::runtime_error(o.file + ": no sample of the chosen topics");
   std::stable_sort(records.begin(), records.end(),
                    [&](const runtime::Record& x, const runtime::Record& y) { return at(x) < at(y); });

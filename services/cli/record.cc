@@ -1,6 +1,6 @@
-// hcosim record: topics into a recording (docs/recording.md), or a haptic
-// device's HapticState as a CSV trajectory that the replay backend plays
-// back (adapters/device/replay.h).
+// hcosim record: topics into a recording (docs/recording.md: hcosim's own
+// format or MCAP), or a haptic device's HapticState as a CSV trajectory
+// that the replay backend plays back (adapters/device/replay.h).
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -19,6 +19,8 @@ struct RecordOptions {
   std::string file;                 // a recording, or
   std::string out, device;          // a CSV trajectory of one device (all: "")
   std::vector<std::string> topics;  // none: every topic
+  std::string format;               // hcosim or mcap; empty: by the file's name
+  std::string compression = "zstd";
   double duration_s = 0;
   runtime::DdsOptions dds;
 };
@@ -30,7 +32,9 @@ int record_topics(const RecordOptions& o) {
   const double duration = o.duration_s;
   runtime::install_stop_handlers();
   runtime::Participant p(o.dds.domain, "hcosim_record", runtime::default_qos_file(), nullptr, false, o.dds.security);
-  runtime::Recorder recorder(p, o.file, topics);
+  const runtime::RecordingFormat format =
+      o.format.empty() ? runtime::format_of(o.file) : runtime::parse_recording_format(o.format);
+  runtime::Recorder recorder(p, o.file, topics, format, runtime::parse_compression(o.compression));
   const std::int64_t end = duration > 0 ? runtime::mono_ns() + std::int64_t(duration * 1e9) : INT64_MAX;
   while (!runtime::stop_requested() && runtime::mono_ns() < end) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -84,6 +88,14 @@ void add_record(CLI::App& app, Command& chosen) {
                                    "--out write a haptic device's HapticState as a trajectory the replay device plays");
   CLI::Option* file = c->add_option("REC", o->file, "the recording to write");
   runtime::add_topic_list(*c, o->topics);
+  c->add_option("--format", o->format, "hcosim or mcap (default: mcap for a name ending in .mcap, else hcosim)")
+      ->option_text("hcosim|mcap")
+      ->check(CLI::IsMember({"hcosim", "mcap"}).description(""))
+      ->needs(file);
+  c->add_option("--compression", o->compression, "MCAP's chunks: zstd (default), lz4 or none")
+      ->option_text("zstd|lz4|none")
+      ->check(CLI::IsMember({"zstd", "lz4", "none"}).description(""))
+      ->needs(file);
   c->add_option("--duration", o->duration_s, "record for S seconds (0: until Ctrl-C)")
       ->option_text("S")
       ->check(runtime::within(0, 1e9));

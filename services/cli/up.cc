@@ -218,7 +218,8 @@ void add_up(CLI::App& app, Command& chosen) {
       ->option_text("realtime|lockstep")
       ->check(CLI::IsMember({"realtime", "lockstep"}).description(""));
   c->add_option("--out", o->out, "folder for logs and the services' outputs (default: out)")->option_text("DIR");
-  c->add_option("--record", o->record, "record every topic of the run into REC (docs/recording.md)")
+  c->add_option("--record", o->record,
+                "record every topic of the run into REC, MCAP for a name ending in .mcap (docs/recording.md)")
       ->option_text("REC");
   c->callback([&chosen, o] { chosen = [o] { return up(*o); }; });
 }

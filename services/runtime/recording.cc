@@ -3,6 +3,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "idl/schemas.h"
 #include "services/runtime/service.h"
 
 namespace hcosim::services::runtime {
@@ -27,15 +28,72 @@ U get(const char*& p) {
   return v;
 }
 
+bool ends_with(const std::string& s, const std::string& end) {
+  return s.size() >= end.size() && s.compare(s.size() - end.size(), end.size(), end) == 0;
+}
+
 }  // namespace
 
-RecordingWriter::RecordingWriter(const std::string& path)
-    : path_(path), out_(path, std::ios::binary | std::ios::trunc) {
+RecordingFormat format_of(const std::string& path) {
+  return ends_with(path, ".mcap") ? RecordingFormat::mcap : RecordingFormat::hcosim;
+}
+
+RecordingFormat parse_recording_format(const std::string& name) {
+  if (name == "hcosim") return RecordingFormat::hcosim;
+  if (name == "mcap") return RecordingFormat::mcap;
+  throw std::invalid_argument("unknown recording format '" + name + "': one of hcosim, mcap");
+}
+
+mcap::Compression parse_compression(const std::string& name) {
+  for (const mcap::Compression c : {mcap::Compression::zstd, mcap::Compression::lz4, mcap::Compression::none})
+    if (name == (c == mcap::Compression::none ? "none" : mcap::name(c))) return c;
+  throw std::invalid_argument("unknown compression '" + name + "': one of zstd, lz4, none");
+}
+
+std::string idl_schema(const std::string& type_name) {
+  const std::string scope = "hcosim::";
+  if (type_name.rfind(scope, 0) != 0) throw std::invalid_argument("'" + type_name + "' is not an hcosim type");
+  const std::string declares = "struct " + type_name.substr(scope.size()) + " {";
+  std::string common;
+  for (const idl::IdlText& f : idl::kIdlTexts)
+    if (std::string(f.file) == "common") common = f.text;
+  for (const idl::IdlText& f : idl::kIdlTexts)
+    if (std::string(f.text).find(declares) != std::string::npos)
+      return std::string(f.file) == "common" ? common : common + f.text;
+  throw std::invalid_argument("no IDL file declares '" + type_name + "'");
+}
+
+RecordingWriter::RecordingWriter(const std::string& path, RecordingFormat format, mcap::Compression compression)
+    : path_(path) {
+  if (format == RecordingFormat::mcap) {
+    mcap_ = std::make_unique<mcap::Writer>(path, compression);
+    return;
+  }
+  out_.open(path, std::ios::binary | std::ios::trunc);
   if (!out_) throw std::runtime_error(path + ": cannot be written");
   out_.write(kMagic, sizeof kMagic);
 }
 
 void RecordingWriter::write(const Record& r) {
+  if (mcap_) {
+    auto it = channels_.find(r.topic);
+    if (it == channels_.end()) {
+      std::string type;
+      with_topic(r.topic, [&](auto tag) { type = TopicOf<typename decltype(tag)::type>::type_name; });
+      if (type.empty()) throw std::invalid_argument("a record of no contract topic '" + r.topic + "'");
+      const std::uint16_t schema = mcap_->add_schema(type, "omgidl", idl_schema(type));
+      it = channels_.emplace(r.topic, std::make_pair(mcap_->add_channel(schema, r.topic, "cdr"), 0u)).first;
+    }
+    mcap::Message m;
+    m.channel = it->second.first;
+    m.sequence = it->second.second++;
+    m.log_time = std::uint64_t(r.receive_ns);
+    m.publish_time = std::uint64_t(r.publish_ns);
+    m.data = r.cdr;
+    mcap_->write(m);
+    ++count_;
+    return;
+  }
   // u32 length of the rest, u16 topic length, topic, u64 step, i64 sim time,
   // i64 receive time, the CDR bytes.
   std::string b;
@@ -53,11 +111,20 @@ void RecordingWriter::write(const Record& r) {
 }
 
 void RecordingWriter::close() {
+  if (mcap_) {
+    mcap_->close();
+    return;
+  }
   out_.close();
   if (!out_) throw std::runtime_error(path_ + ": writing the recording failed");
 }
 
-RecordingReader::RecordingReader(const std::string& path) : path_(path), in_(path, std::ios::binary) {
+RecordingReader::RecordingReader(const std::string& path) : path_(path) {
+  if (mcap::is_mcap(path)) {
+    mcap_ = std::make_unique<mcap::Reader>(path);
+    return;
+  }
+  in_.open(path, std::ios::binary);
   if (!in_) throw std::runtime_error(path + ": cannot be read");
   char magic[sizeof kMagic] = {};
   in_.read(magic, sizeof magic);
@@ -66,7 +133,41 @@ RecordingReader::RecordingReader(const std::string& path) : path_(path), in_(pat
   offset_ = sizeof kMagic;
 }
 
+bool RecordingReader::next_mcap(Record& r) {
+  for (mcap::Message m; mcap_->next(m);) {
+    const mcap::Channel& c = mcap_->channels().at(m.channel);
+    std::string type;
+    with_topic(c.topic, [&](auto tag) { type = TopicOf<typename decltype(tag)::type>::type_name; });
+    if (type.empty() || c.message_encoding != "cdr") {
+      ++skipped_;
+      continue;
+    }
+    const auto schema = mcap_->schemas().find(c.schema_id);
+    if (schema == mcap_->schemas().end() || schema->second.name != type)
+      throw std::runtime_error(path_ + ": channel " + std::to_string(c.id) + " '" + c.topic + "' has schema '" +
+                               (schema == mcap_->schemas().end() ? std::string("none") : schema->second.name) +
+                               "'; hcosim's " + c.topic + " is " + type);
+    r.topic = c.topic;
+    r.receive_ns = std::int64_t(m.log_time);
+    r.publish_ns = std::int64_t(m.publish_time);
+    r.cdr = std::move(m.data);
+    r.step = 0, r.sim_time_ns = 0;
+    with_topic(c.topic, [&](auto tag) {
+      using T = typename decltype(tag)::type;
+      const T s = from_cdr<T>(r.cdr);
+      if constexpr (detail::HasStamp<T>::value) {
+        r.step = s.stamp().step(), r.sim_time_ns = s.stamp().sim_time_ns();
+      } else if constexpr (detail::HasStep<T>::value) {
+        r.step = s.step();
+      }
+    });
+    return true;
+  }
+  return false;
+}
+
 bool RecordingReader::next(Record& r) {
+  if (mcap_) return next_mcap(r);
   char head[4];
   in_.read(head, 4);
   if (in_.gcount() == 0) return false;
@@ -91,7 +192,9 @@ bool RecordingReader::next(Record& r) {
   return true;
 }
 
-Recorder::Recorder(Participant& p, const std::string& path, const std::vector<std::string>& topics) : writer_(path) {
+Recorder::Recorder(Participant& p, const std::string& path, const std::vector<std::string>& topics,
+                   RecordingFormat format, mcap::Compression compression)
+    : writer_(path, format, compression) {
   for (const std::string& t : topics) {
     if (!with_topic(t, [](auto) {})) throw std::invalid_argument("unknown topic '" + t + "'");
   }

@@ -1,11 +1,13 @@
 // Recordings: samples of the topic contract as they were on the wire (CDR),
-// each with its topic, step, simulated time and receive time, in one file.
-// The format is in docs/recording.md.
+// each with its topic, step, simulated time and receive time, in one file:
+// hcosim's own format, or MCAP (services/runtime/mcap.h) with each topic a
+// channel and its IDL type the channel's schema. Both in docs/recording.md.
 #pragma once
 
 #include <cstdint>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -13,6 +15,7 @@
 #include <vector>
 
 #include "services/runtime/endpoint.h"
+#include "services/runtime/mcap.h"
 #include "services/runtime/participant.h"
 #include "services/runtime/topics.h"
 
@@ -23,35 +26,62 @@ struct Record {
   std::uint64_t step = 0;         // StepStamp.step (ClockTick, StepDone: their step; topology: 0)
   std::int64_t sim_time_ns = 0;   // StepStamp.sim_time_ns (0 where the type has none)
   std::int64_t receive_ns = 0;    // CLOCK_REALTIME when the recorder took it, ns
+  std::int64_t publish_ns = 0;    // StepStamp.wall_time_ns, when it was written (MCAP's publish time; written only)
   std::vector<std::uint8_t> cdr;  // the sample, serialized as on the wire (encapsulation header first)
 };
 
+enum class RecordingFormat { hcosim, mcap };
+// A recording's format from its name: mcap for a name ending in .mcap.
+RecordingFormat format_of(const std::string& path);
+RecordingFormat parse_recording_format(const std::string& name);  // throws std::invalid_argument
+mcap::Compression parse_compression(const std::string& name);     // zstd, lz4 or none; throws likewise
+
+// The self-contained OMG IDL text of a contract type ("hcosim::DeformedMesh"):
+// common.idl and the file that declares it, their #include lines removed.
+// Throws std::invalid_argument for a type the contract does not declare.
+std::string idl_schema(const std::string& type_name);
+
 // Appends records to a new file. Throws std::runtime_error when the file
-// cannot be written.
+// cannot be written, std::invalid_argument for a record of no contract
+// topic in MCAP (its channel needs the topic's type).
 class RecordingWriter {
  public:
-  explicit RecordingWriter(const std::string& path);
+  RecordingWriter(const std::string& path, RecordingFormat format,
+                  mcap::Compression compression = mcap::Compression::zstd);
+  explicit RecordingWriter(const std::string& path) : RecordingWriter(path, format_of(path)) {}
   void write(const Record& r);
   void close();  // throws if anything failed to reach the disk
   std::uint64_t count() const { return count_; }
 
  private:
   std::string path_;
-  std::ofstream out_;
+  std::ofstream out_;                                                        // hcosim's format, or
+  std::unique_ptr<mcap::Writer> mcap_;                                       // MCAP's
+  std::map<std::string, std::pair<std::uint16_t, std::uint32_t>> channels_;  // MCAP: by topic, channel and sequence
   std::uint64_t count_ = 0;
 };
 
-// Reads records in file order. Throws std::runtime_error naming the file
-// and byte offset for a file that is not a recording or is cut short.
+// Reads records in file order, of either format (told by its first bytes).
+// From MCAP, the messages of channels that carry a contract topic in CDR,
+// their step and simulated time from the sample's stamp, their receive
+// time the log time; other channels are skipped and counted. Throws
+// std::runtime_error naming the file and byte offset for a file that is
+// not a recording or is cut short, and the channel whose schema is not
+// its topic's type.
 class RecordingReader {
  public:
   explicit RecordingReader(const std::string& path);
   bool next(Record& r);  // false at the end
+  std::uint64_t skipped() const { return skipped_; }
 
  private:
+  bool next_mcap(Record& r);
+
   std::string path_;
-  std::ifstream in_;
+  std::ifstream in_;                    // hcosim's format, or
+  std::unique_ptr<mcap::Reader> mcap_;  // MCAP's
   std::uint64_t offset_ = 0;
+  std::uint64_t skipped_ = 0;
 };
 
 // A sample of T to and from its CDR bytes.
@@ -99,6 +129,8 @@ Record make_record(const T& s, std::int64_t receive_ns) {
     r.step = s.step();
   }
   r.receive_ns = receive_ns;
+  r.publish_ns = receive_ns;
+  if constexpr (detail::HasStamp<T>::value) r.publish_ns = s.stamp().wall_time_ns();
   r.cdr = to_cdr(s);
   return r;
 }
@@ -111,7 +143,10 @@ class Recorder {
  public:
   // `topics` empty: every topic. Throws std::invalid_argument naming an
   // unknown topic, std::runtime_error when the file cannot be written.
-  Recorder(Participant& p, const std::string& path, const std::vector<std::string>& topics);
+  Recorder(Participant& p, const std::string& path, const std::vector<std::string>& topics)
+      : Recorder(p, path, topics, format_of(path), mcap::Compression::zstd) {}
+  Recorder(Participant& p, const std::string& path, const std::vector<std::string>& topics, RecordingFormat format,
+           mcap::Compression compression);
   // Stops recording, writes what is left and closes the file.
   void close();
   std::uint64_t samples() const;

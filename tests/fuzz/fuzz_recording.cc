@@ -1,6 +1,6 @@
-// Recordings (runtime/recording.h) as `hcosim export` and `replay` read
-// them: every record's CDR bytes decoded as its topic's type, then
-// validated as a sample arriving over DDS would be.
+// Recordings (runtime/recording.h, hcosim's format or MCAP) as `hcosim
+// export` and `replay` read them: every record's CDR bytes decoded as its
+// topic's type, then validated as a sample arriving over DDS would be.
 #include "adapters/validate.h"
 #include "services/runtime/recording.h"
 #include "tests/fuzz/fuzz_input.h"
