@@ -9,7 +9,7 @@
 #include <zlib.h>
 #include <zstd.h>
 
-namespace hcosim::services::runtime::mcap {
+namespace hcosim::services::runtime {
 namespace {
 
 constexpr char kMagic[8] = {'\x89', 'M', 'C', 'A', 'P', '0', '\r', '\n'};
@@ -93,9 +93,9 @@ struct Cursor {
   }
 };
 
-std::string compress(Compression c, const std::string& raw) {
-  if (c == Compression::none) return raw;
-  if (c == Compression::zstd) {
+std::string compress(McapCompression c, const std::string& raw) {
+  if (c == McapCompression::none) return raw;
+  if (c == McapCompression::zstd) {
     std::string out(ZSTD_compressBound(raw.size()), '\0');
     const std::size_t n = ZSTD_compress(out.data(), out.size(), raw.data(), raw.size(), 3);
     if (ZSTD_isError(n)) throw std::runtime_error(std::string("mcap: zstd: ") + ZSTD_getErrorName(n));
@@ -147,7 +147,7 @@ std::string decompress(const std::string& how, const std::string& packed, std::u
   throw std::runtime_error(where + ": compression '" + how + "' is not one of zstd, lz4 or none");
 }
 
-std::string schema_body(const Schema& s) {
+std::string schema_body(const McapSchema& s) {
   std::string b;
   put(b, s.id);
   put_string(b, s.name);
@@ -156,7 +156,7 @@ std::string schema_body(const Schema& s) {
   return b;
 }
 
-std::string channel_body(const Channel& c) {
+std::string channel_body(const McapChannel& c) {
   std::string b, m;
   put(b, c.id);
   put(b, c.schema_id);
@@ -169,19 +169,19 @@ std::string channel_body(const Channel& c) {
 
 }  // namespace
 
-const char* name(Compression c) {
+const char* name(McapCompression c) {
   switch (c) {
-    case Compression::none:
+    case McapCompression::none:
       return "";
-    case Compression::zstd:
+    case McapCompression::zstd:
       return "zstd";
-    case Compression::lz4:
+    case McapCompression::lz4:
       return "lz4";
   }
   return "?";
 }
 
-Writer::Writer(const std::string& path, Compression compression, std::size_t chunk_bytes)
+McapWriter::McapWriter(const std::string& path, McapCompression compression, std::size_t chunk_bytes)
     : path_(path),
       out_(path, std::ios::binary | std::ios::trunc),
       compression_(compression),
@@ -194,29 +194,29 @@ Writer::Writer(const std::string& path, Compression compression, std::size_t chu
   emit(record(kHeader, header));
 }
 
-Writer::~Writer() {
+McapWriter::~McapWriter() {
   try {
     close();
   } catch (const std::exception&) {
   }
 }
 
-void Writer::emit(const std::string& r) {
+void McapWriter::emit(const std::string& r) {
   out_.write(r.data(), std::streamsize(r.size()));
   data_crc_ = crc(data_crc_, r.data(), r.size());
   offset_ += r.size();
 }
 
-std::uint16_t Writer::add_schema(const std::string& name, const std::string& encoding, const std::string& data) {
+std::uint16_t McapWriter::add_schema(const std::string& name, const std::string& encoding, const std::string& data) {
   if (schemas_.size() >= 65535) throw std::runtime_error(path_ + ": more than 65535 schemas");
   schemas_.push_back({std::uint16_t(schemas_.size() + 1), name, encoding, data});
   chunk_ += record(kSchema, schema_body(schemas_.back()));
   return schemas_.back().id;
 }
 
-std::uint16_t Writer::add_channel(std::uint16_t schema_id, const std::string& topic,
-                                  const std::string& message_encoding,
-                                  const std::map<std::string, std::string>& metadata) {
+std::uint16_t McapWriter::add_channel(std::uint16_t schema_id, const std::string& topic,
+                                      const std::string& message_encoding,
+                                      const std::map<std::string, std::string>& metadata) {
   if (schema_id == 0 || schema_id > schemas_.size())
     throw std::invalid_argument("mcap: channel '" + topic + "' names no schema " + std::to_string(schema_id));
   if (channels_.size() >= 65535) throw std::runtime_error(path_ + ": more than 65535 channels");
@@ -225,7 +225,7 @@ std::uint16_t Writer::add_channel(std::uint16_t schema_id, const std::string& to
   return channels_.back().id;
 }
 
-void Writer::write(const Message& m) {
+void McapWriter::write(const McapMessage& m) {
   if (m.channel == 0 || m.channel > channels_.size())
     throw std::invalid_argument("mcap: a message on no channel " + std::to_string(m.channel));
   std::string b;
@@ -244,7 +244,7 @@ void Writer::write(const Message& m) {
   if (chunk_.size() >= chunk_bytes_) flush_chunk();
 }
 
-void Writer::flush_chunk() {
+void McapWriter::flush_chunk() {
   if (chunk_.empty()) return;
   const std::string packed = compress(compression_, chunk_);
   std::string c;
@@ -286,7 +286,7 @@ void Writer::flush_chunk() {
   chunk_start_ = chunk_end_ = 0;
 }
 
-void Writer::close() {
+void McapWriter::close() {
   if (closed_) return;
   closed_ = true;
   flush_chunk();
@@ -310,8 +310,8 @@ void Writer::close() {
     offsets.push_back(record(kSummaryOffset, o));
   };
   std::vector<std::string> schemas, channels;
-  for (const Schema& s : schemas_) schemas.push_back(record(kSchema, schema_body(s)));
-  for (const Channel& c : channels_) channels.push_back(record(kChannel, channel_body(c)));
+  for (const McapSchema& s : schemas_) schemas.push_back(record(kSchema, schema_body(s)));
+  for (const McapChannel& c : channels_) channels.push_back(record(kChannel, channel_body(c)));
   std::string stats, counts;
   put(stats, messages_);
   put(stats, std::uint16_t(schemas_.size()));
@@ -348,7 +348,7 @@ bool is_mcap(const std::string& path) {
   return in && std::memcmp(magic, kMagic, sizeof kMagic) == 0;
 }
 
-Reader::Reader(const std::string& path) : path_(path), in_(path, std::ios::binary | std::ios::ate) {
+McapReader::McapReader(const std::string& path) : path_(path), in_(path, std::ios::binary | std::ios::ate) {
   if (!in_) throw std::runtime_error(path + ": cannot be read");
   size_ = std::uint64_t(in_.tellg());
   in_.seekg(0);
@@ -363,7 +363,7 @@ Reader::Reader(const std::string& path) : path_(path), in_(path, std::ios::binar
     throw std::runtime_error(path + ": MCAP's first record is not its header");
 }
 
-bool Reader::read_record(std::uint8_t& op, std::string& body) {
+bool McapReader::read_record(std::uint8_t& op, std::string& body) {
   if (ended_) return false;
   const std::string where = path_ + ": record at byte " + std::to_string(offset_);
   char head[9];
@@ -392,17 +392,17 @@ bool Reader::read_record(std::uint8_t& op, std::string& body) {
   return true;
 }
 
-bool Reader::take(std::uint8_t op, const std::string& body, Message* m, const std::string& where) {
+bool McapReader::take(std::uint8_t op, const std::string& body, McapMessage* m, const std::string& where) {
   Cursor c{body.data(), body.data() + body.size(), where};
   if (op == kSchema) {
-    Schema s;
+    McapSchema s;
     s.id = c.get<std::uint16_t>();
     s.name = c.string();
     s.encoding = c.string();
     s.data = c.string();
     schemas_[s.id] = s;
   } else if (op == kChannel) {
-    Channel ch;
+    McapChannel ch;
     ch.id = c.get<std::uint16_t>();
     ch.schema_id = c.get<std::uint16_t>();
     ch.topic = c.string();
@@ -423,7 +423,7 @@ bool Reader::take(std::uint8_t op, const std::string& body, Message* m, const st
   return false;  // the other records say nothing a reader in file order needs
 }
 
-bool Reader::next(Message& m) {
+bool McapReader::next(McapMessage& m) {
   for (;;) {
     if (chunk_at_ < chunk_.size()) {
       const std::string where =
@@ -459,4 +459,4 @@ bool Reader::next(Message& m) {
   }
 }
 
-}  // namespace hcosim::services::runtime::mcap
+}  // namespace hcosim::services::runtime

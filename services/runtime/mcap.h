@@ -11,23 +11,23 @@
 #include <string>
 #include <vector>
 
-namespace hcosim::services::runtime::mcap {
+namespace hcosim::services::runtime {
 
-enum class Compression { none, zstd, lz4 };
-const char* name(Compression c);  // as MCAP spells it: "", "zstd", "lz4"
+enum class McapCompression { none, zstd, lz4 };
+const char* name(McapCompression c);  // as MCAP spells it: "", "zstd", "lz4"
 
-struct Schema {
+struct McapSchema {
   std::uint16_t id = 0;
   std::string name, encoding, data;
 };
 
-struct Channel {
+struct McapChannel {
   std::uint16_t id = 0, schema_id = 0;
   std::string topic, message_encoding;
   std::map<std::string, std::string> metadata;
 };
 
-struct Message {
+struct McapMessage {
   std::uint16_t channel = 0;
   std::uint32_t sequence = 0;
   std::uint64_t log_time = 0, publish_time = 0;  // ns
@@ -39,18 +39,18 @@ struct Message {
 // message indexes, then the summary (schemas, channels, statistics, chunk
 // indexes, their offsets) and the footer. Throws std::runtime_error naming
 // the file when it cannot be written.
-class Writer {
+class McapWriter {
  public:
-  Writer(const std::string& path, Compression compression, std::size_t chunk_bytes = 1 << 20);
-  ~Writer();  // closes, swallowing errors: call close() to learn of them
-  Writer(const Writer&) = delete;
-  Writer& operator=(const Writer&) = delete;
+  McapWriter(const std::string& path, McapCompression compression, std::size_t chunk_bytes = 1 << 20);
+  ~McapWriter();  // closes, swallowing errors: call close() to learn of them
+  McapWriter(const McapWriter&) = delete;
+  McapWriter& operator=(const McapWriter&) = delete;
 
   // Each returns the new record's id (from 1); a channel's schema must exist.
   std::uint16_t add_schema(const std::string& name, const std::string& encoding, const std::string& data);
   std::uint16_t add_channel(std::uint16_t schema_id, const std::string& topic, const std::string& message_encoding,
                             const std::map<std::string, std::string>& metadata = {});
-  void write(const Message& m);
+  void write(const McapMessage& m);
   void close();  // throws if anything failed to reach the disk
   std::uint64_t messages() const { return messages_; }
 
@@ -60,13 +60,13 @@ class Writer {
 
   std::string path_;
   std::ofstream out_;
-  Compression compression_;
+  McapCompression compression_;
   std::size_t chunk_bytes_;
   bool closed_ = false;
   std::uint64_t offset_ = 0;
   std::uint32_t data_crc_ = 0;
-  std::vector<Schema> schemas_;
-  std::vector<Channel> channels_;
+  std::vector<McapSchema> schemas_;
+  std::vector<McapChannel> channels_;
   // The open chunk: its records, time span, and per channel (log time,
   // offset in the chunk) of each message.
   std::string chunk_;
@@ -84,18 +84,18 @@ bool is_mcap(const std::string& path);
 // (in or out of chunks). Checks each chunk's CRC and the data section's
 // when they are given (not 0). Throws std::runtime_error naming the file
 // and byte offset for a file that is not MCAP, is cut short, or is corrupt.
-class Reader {
+class McapReader {
  public:
-  explicit Reader(const std::string& path);
-  bool next(Message& m);  // false at the data section's end
-  const std::map<std::uint16_t, Schema>& schemas() const { return schemas_; }
-  const std::map<std::uint16_t, Channel>& channels() const { return channels_; }
+  explicit McapReader(const std::string& path);
+  bool next(McapMessage& m);  // false at the data section's end
+  const std::map<std::uint16_t, McapSchema>& schemas() const { return schemas_; }
+  const std::map<std::uint16_t, McapChannel>& channels() const { return channels_; }
 
  private:
   // One record of the data section at top level; false at its end.
   bool read_record(std::uint8_t& op, std::string& body);
   // A schema or channel record; a message goes to `m`, true then.
-  bool take(std::uint8_t op, const std::string& body, Message* m, const std::string& where);
+  bool take(std::uint8_t op, const std::string& body, McapMessage* m, const std::string& where);
 
   std::string path_;
   std::ifstream in_;
@@ -106,8 +106,8 @@ class Reader {
   std::string chunk_;  // the open chunk's records, decompressed
   std::size_t chunk_at_ = 0;
   std::uint64_t record_at_ = 0;  // the last top-level record's place in the file
-  std::map<std::uint16_t, Schema> schemas_;
-  std::map<std::uint16_t, Channel> channels_;
+  std::map<std::uint16_t, McapSchema> schemas_;
+  std::map<std::uint16_t, McapChannel> channels_;
 };
 
-}  // namespace hcosim::services::runtime::mcap
+}  // namespace hcosim::services::runtime

@@ -44,10 +44,10 @@ RecordingFormat parse_recording_format(const std::string& name) {
   throw std::invalid_argument("unknown recording format '" + name + "': one of hcosim, mcap");
 }
 
-mcap::Compression parse_compression(const std::string& name) {
-  for (const mcap::Compression c : {mcap::Compression::zstd, mcap::Compression::lz4, mcap::Compression::none})
-    if (name == (c == mcap::Compression::none ? "none" : mcap::name(c))) return c;
-  throw std::invalid_argument("unknown compression '" + name + "': one of zstd, lz4, none");
+McapCompression parse_compression(const std::string& text) {
+  for (const McapCompression c : {McapCompression::zstd, McapCompression::lz4, McapCompression::none})
+    if (text == (c == McapCompression::none ? "none" : name(c))) return c;
+  throw std::invalid_argument("unknown compression '" + text + "': one of zstd, lz4, none");
 }
 
 std::string idl_schema(const std::string& type_name) {
@@ -63,10 +63,10 @@ std::string idl_schema(const std::string& type_name) {
   throw std::invalid_argument("no IDL file declares '" + type_name + "'");
 }
 
-RecordingWriter::RecordingWriter(const std::string& path, RecordingFormat format, mcap::Compression compression)
+RecordingWriter::RecordingWriter(const std::string& path, RecordingFormat format, McapCompression compression)
     : path_(path) {
   if (format == RecordingFormat::mcap) {
-    mcap_ = std::make_unique<mcap::Writer>(path, compression);
+    mcap_ = std::make_unique<McapWriter>(path, compression);
     return;
   }
   out_.open(path, std::ios::binary | std::ios::trunc);
@@ -84,7 +84,7 @@ void RecordingWriter::write(const Record& r) {
       const std::uint16_t schema = mcap_->add_schema(type, "omgidl", idl_schema(type));
       it = channels_.emplace(r.topic, std::make_pair(mcap_->add_channel(schema, r.topic, "cdr"), 0u)).first;
     }
-    mcap::Message m;
+    McapMessage m;
     m.channel = it->second.first;
     m.sequence = it->second.second++;
     m.log_time = std::uint64_t(r.receive_ns);
@@ -120,8 +120,8 @@ void RecordingWriter::close() {
 }
 
 RecordingReader::RecordingReader(const std::string& path) : path_(path) {
-  if (mcap::is_mcap(path)) {
-    mcap_ = std::make_unique<mcap::Reader>(path);
+  if (is_mcap(path)) {
+    mcap_ = std::make_unique<McapReader>(path);
     return;
   }
   in_.open(path, std::ios::binary);
@@ -134,8 +134,8 @@ RecordingReader::RecordingReader(const std::string& path) : path_(path) {
 }
 
 bool RecordingReader::next_mcap(Record& r) {
-  for (mcap::Message m; mcap_->next(m);) {
-    const mcap::Channel& c = mcap_->channels().at(m.channel);
+  for (McapMessage m; mcap_->next(m);) {
+    const McapChannel& c = mcap_->channels().at(m.channel);
     std::string type;
     with_topic(c.topic, [&](auto tag) { type = TopicOf<typename decltype(tag)::type>::type_name; });
     if (type.empty() || c.message_encoding != "cdr") {
@@ -193,7 +193,7 @@ bool RecordingReader::next(Record& r) {
 }
 
 Recorder::Recorder(Participant& p, const std::string& path, const std::vector<std::string>& topics,
-                   RecordingFormat format, mcap::Compression compression)
+                   RecordingFormat format, McapCompression compression)
     : writer_(path, format, compression) {
   for (const std::string& t : topics) {
     if (!with_topic(t, [](auto) {})) throw std::invalid_argument("unknown topic '" + t + "'");

@@ -34,7 +34,7 @@ enum class RecordingFormat { hcosim, mcap };
 // A recording's format from its name: mcap for a name ending in .mcap.
 RecordingFormat format_of(const std::string& path);
 RecordingFormat parse_recording_format(const std::string& name);  // throws std::invalid_argument
-mcap::Compression parse_compression(const std::string& name);     // zstd, lz4 or none; throws likewise
+McapCompression parse_compression(const std::string& name);       // zstd, lz4 or none; throws likewise
 
 // The self-contained OMG IDL text of a contract type ("hcosim::DeformedMesh"):
 // common.idl and the file that declares it, their #include lines removed.
@@ -46,8 +46,7 @@ std::string idl_schema(const std::string& type_name);
 // topic in MCAP (its channel needs the topic's type).
 class RecordingWriter {
  public:
-  RecordingWriter(const std::string& path, RecordingFormat format,
-                  mcap::Compression compression = mcap::Compression::zstd);
+  RecordingWriter(const std::string& path, RecordingFormat format, McapCompression compression = McapCompression::zstd);
   explicit RecordingWriter(const std::string& path) : RecordingWriter(path, format_of(path)) {}
   void write(const Record& r);
   void close();  // throws if anything failed to reach the disk
@@ -56,7 +55,7 @@ class RecordingWriter {
  private:
   std::string path_;
   std::ofstream out_;                                                        // hcosim's format, or
-  std::unique_ptr<mcap::Writer> mcap_;                                       // MCAP's
+  std::unique_ptr<McapWriter> mcap_;                                         // MCAP's
   std::map<std::string, std::pair<std::uint16_t, std::uint32_t>> channels_;  // MCAP: by topic, channel and sequence
   std::uint64_t count_ = 0;
 };
@@ -78,8 +77,8 @@ class RecordingReader {
   bool next_mcap(Record& r);
 
   std::string path_;
-  std::ifstream in_;                    // hcosim's format, or
-  std::unique_ptr<mcap::Reader> mcap_;  // MCAP's
+  std::ifstream in_;                  // hcosim's format, or
+  std::unique_ptr<McapReader> mcap_;  // MCAP's
   std::uint64_t offset_ = 0;
   std::uint64_t skipped_ = 0;
 };
@@ -144,9 +143,9 @@ class Recorder {
   // `topics` empty: every topic. Throws std::invalid_argument naming an
   // unknown topic, std::runtime_error when the file cannot be written.
   Recorder(Participant& p, const std::string& path, const std::vector<std::string>& topics)
-      : Recorder(p, path, topics, format_of(path), mcap::Compression::zstd) {}
+      : Recorder(p, path, topics, format_of(path), McapCompression::zstd) {}
   Recorder(Participant& p, const std::string& path, const std::vector<std::string>& topics, RecordingFormat format,
-           mcap::Compression compression);
+           McapCompression compression);
   // Stops recording, writes what is left and closes the file.
   void close();
   std::uint64_t samples() const;

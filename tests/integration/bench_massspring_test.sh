@@ -3,7 +3,7 @@
 # equal error, one Pareto PNG per lattice, and the elastic surfaces'
 # recovery rows.
 source "$(dirname "$0")/lib.sh"
-limit 100 "$BIN/hcosim" bench massspring --quick --out "$WORK/b" >"$WORK/bench.log" 2>&1 ||
+limit 240 "$BIN/hcosim" bench massspring --quick --out "$WORK/b" >"$WORK/bench.log" 2>&1 ||
   fail "bench exited $?: $(tail -5 "$WORK/bench.log")"
 f="$WORK/b/massspring.json"
 [ -s "$f" ] || fail "no $f"

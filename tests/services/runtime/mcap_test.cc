@@ -15,7 +15,7 @@
 
 #include <gtest/gtest.h>
 
-namespace hcosim::services::runtime::mcap {
+namespace hcosim::services::runtime {
 namespace {
 
 std::string temp(const std::string& name) {
@@ -43,20 +43,20 @@ std::string error_of(const std::function<void()>& f) {
   return "no error";
 }
 
-Message message(std::uint16_t channel, std::uint32_t seq, std::uint64_t t, std::size_t bytes) {
-  Message m;
+McapMessage message(std::uint16_t channel, std::uint32_t seq, std::uint64_t t, std::size_t bytes) {
+  McapMessage m;
   m.channel = channel, m.sequence = seq, m.log_time = t, m.publish_time = t - 7;
   for (std::size_t i = 0; i < bytes; ++i) m.data.push_back(std::uint8_t(i * 31 + seq));
   return m;
 }
 
 // Two channels, 300 messages of up to 5 kB: several 64 kB chunks.
-std::vector<Message> write_sample(const std::string& path, Compression c) {
-  Writer w(path, c, 64 << 10);
+std::vector<McapMessage> write_sample(const std::string& path, McapCompression c) {
+  McapWriter w(path, c, 64 << 10);
   const std::uint16_t s = w.add_schema("hcosim::Thing", "omgidl", "module hcosim { struct Thing { long a; }; };");
   const std::uint16_t a = w.add_channel(s, "A", "cdr", {{"k", "v"}});
   const std::uint16_t b = w.add_channel(s, "B", "cdr");
-  std::vector<Message> sent;
+  std::vector<McapMessage> sent;
   for (std::uint32_t i = 0; i < 300; ++i) {
     sent.push_back(message(i % 3 ? a : b, i, 1000000 + 1000ull * i, 40 + 17 * (i % 300)));
     w.write(sent.back());
@@ -65,15 +65,15 @@ std::vector<Message> write_sample(const std::string& path, Compression c) {
   return sent;
 }
 
-class McapCompression : public testing::TestWithParam<Compression> {};
+class McapFile : public testing::TestWithParam<McapCompression> {};
 
-TEST_P(McapCompression, WhatIsWrittenReadsBackInOrder) {
+TEST_P(McapFile, WhatIsWrittenReadsBackInOrder) {
   const std::string path = temp(std::string("roundtrip_") + name(GetParam()) + ".mcap");
-  const std::vector<Message> sent = write_sample(path, GetParam());
+  const std::vector<McapMessage> sent = write_sample(path, GetParam());
   ASSERT_TRUE(is_mcap(path));
-  Reader r(path);
+  McapReader r(path);
   std::size_t n = 0;
-  for (Message m; r.next(m); ++n) {
+  for (McapMessage m; r.next(m); ++n) {
     ASSERT_LT(n, sent.size());
     EXPECT_EQ(m.channel, sent[n].channel);
     EXPECT_EQ(m.sequence, sent[n].sequence);
@@ -93,9 +93,9 @@ TEST_P(McapCompression, WhatIsWrittenReadsBackInOrder) {
 // The footer names the summary; its chunk indexes name each chunk and its
 // message indexes, whose entries name every message; the statistics count
 // them all. Read by offsets as a seeking reader does.
-TEST_P(McapCompression, TheSummaryIndexesEveryChunkAndMessage) {
+TEST_P(McapFile, TheSummaryIndexesEveryChunkAndMessage) {
   const std::string path = temp(std::string("summary_") + name(GetParam()) + ".mcap");
-  const std::vector<Message> sent = write_sample(path, GetParam());
+  const std::vector<McapMessage> sent = write_sample(path, GetParam());
   const std::string f = slurp(path);
   ASSERT_EQ(f.substr(f.size() - 8), std::string("\x89MCAP0\r\n", 8));
   const std::size_t footer = f.size() - 8 - 29;
@@ -128,20 +128,21 @@ TEST_P(McapCompression, TheSummaryIndexesEveryChunkAndMessage) {
   std::remove(path.c_str());
 }
 
-INSTANTIATE_TEST_SUITE_P(Every, McapCompression,
-                         testing::Values(Compression::none, Compression::zstd, Compression::lz4), [](const auto& p) {
-                           return std::string(p.param == Compression::none ? "none" : name(p.param));
+INSTANTIATE_TEST_SUITE_P(Every, McapFile,
+                         testing::Values(McapCompression::none, McapCompression::zstd, McapCompression::lz4),
+                         [](const auto& p) {
+                           return std::string(p.param == McapCompression::none ? "none" : name(p.param));
                          });
 
 TEST(Mcap, CorruptCutShortAndForeignFilesAreNamed) {
   const std::string path = temp("bad.mcap");
-  write_sample(path, Compression::none);
+  write_sample(path, McapCompression::none);
   const std::string good = slurp(path);
   auto with = [&](const std::string& bytes) {
     std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
     return error_of([&] {
-      Reader r(path);
-      for (Message m; r.next(m);) {
+      McapReader r(path);
+      for (McapMessage m; r.next(m);) {
       }
     });
   };
@@ -156,10 +157,10 @@ TEST(Mcap, CorruptCutShortAndForeignFilesAreNamed) {
   EXPECT_NE(with("HCOSREC1 and more").find("not an MCAP file"), std::string::npos);
   EXPECT_EQ(with(good), "no error");
   std::remove(path.c_str());
-  EXPECT_NE(error_of([] { Reader r("/nonexistent/x.mcap"); }).find("cannot be read"), std::string::npos);
-  EXPECT_NE(error_of([] { Writer w("/nonexistent/x.mcap", Compression::zstd); }).find("cannot be written"),
+  EXPECT_NE(error_of([] { McapReader r("/nonexistent/x.mcap"); }).find("cannot be read"), std::string::npos);
+  EXPECT_NE(error_of([] { McapWriter w("/nonexistent/x.mcap", McapCompression::zstd); }).find("cannot be written"),
             std::string::npos);
-  Writer w(temp("misuse.mcap"), Compression::none);
+  McapWriter w(temp("misuse.mcap"), McapCompression::none);
   EXPECT_NE(error_of([&] { w.add_channel(1, "A", "cdr"); }).find("names no schema 1"), std::string::npos);
   EXPECT_NE(error_of([&] { w.write(message(1, 0, 10, 4)); }).find("on no channel 1"), std::string::npos);
   w.close();
@@ -167,4 +168,4 @@ TEST(Mcap, CorruptCutShortAndForeignFilesAreNamed) {
 }
 
 }  // namespace
-}  // namespace hcosim::services::runtime::mcap
+}  // namespace hcosim::services::runtime

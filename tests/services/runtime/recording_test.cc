@@ -82,15 +82,15 @@ INSTANTIATE_TEST_SUITE_P(Both, RecordingFormats, testing::Values(RecordingFormat
 // name holding every type it uses, with no #include left.
 TEST(Recording, McapChannelsCarryTheirTypesAsSelfContainedIdl) {
   const std::string path = temp("schemas.mcap");
-  RecordingWriter w(path, RecordingFormat::mcap, mcap::Compression::lz4);
+  RecordingWriter w(path, RecordingFormat::mcap, McapCompression::lz4);
   for (const Record& r : samples()) w.write(r);
   w.close();
-  mcap::Reader r(path);
-  for (mcap::Message m; r.next(m);) {
+  McapReader r(path);
+  for (McapMessage m; r.next(m);) {
   }
   ASSERT_EQ(r.channels().size(), 3u);
   for (const auto& [id, c] : r.channels()) {
-    const mcap::Schema& s = r.schemas().at(c.schema_id);
+    const McapSchema& s = r.schemas().at(c.schema_id);
     EXPECT_EQ(c.message_encoding, "cdr");
     EXPECT_EQ(s.encoding, "omgidl");
     EXPECT_EQ(s.name, c.topic == "HapticState"    ? "hcosim::HapticState"
@@ -112,13 +112,13 @@ TEST(Recording, AForeignMcapIsReadForTheContractsTopicsOnly) {
   const std::string path = temp("foreign.mcap");
   const Record h = samples()[0];
   {
-    mcap::Writer w(path, mcap::Compression::zstd);
+    McapWriter w(path, McapCompression::zstd);
     const std::uint16_t ours = w.add_schema("hcosim::HapticState", "omgidl", idl_schema("hcosim::HapticState"));
     const std::uint16_t theirs = w.add_schema("foxglove.Log", "jsonschema", "{}");
     const std::uint16_t a = w.add_channel(ours, "HapticState", "cdr"), b = w.add_channel(theirs, "/log", "json");
     const std::uint16_t c = w.add_channel(ours, "HapticState", "json");
     for (const std::uint16_t ch : {b, a, c, a}) {
-      mcap::Message m;
+      McapMessage m;
       m.channel = ch, m.log_time = 5, m.data = h.cdr;
       w.write(m);
     }
@@ -134,9 +134,9 @@ TEST(Recording, AForeignMcapIsReadForTheContractsTopicsOnly) {
   EXPECT_EQ(n, 2);
   EXPECT_EQ(r.skipped(), 2u);
   {
-    mcap::Writer w(path, mcap::Compression::none);
+    McapWriter w(path, McapCompression::none);
     const std::uint16_t s = w.add_schema("other::HapticState", "omgidl", "struct HapticState { long a; };");
-    mcap::Message m;
+    McapMessage m;
     m.channel = w.add_channel(s, "HapticState", "cdr"), m.data = h.cdr;
     w.write(m);
     w.close();
