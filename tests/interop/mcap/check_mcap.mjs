@@ -93,11 +93,14 @@ for await (const m of reader.readMessages({ validateCrcs: true })) {
 await handle.close();
 
 // Against hcosim export: the same samples, field by field. Its floats are
-// their shortest text, so a float32 read back is fround of the text.
+// their shortest text, so a float32 read back is fround of the text. Both
+// lists are put in one order by their text, integers (steps, stamps) exact
+// so that two nearly equal meshes a step apart never tie.
 const canonical = (v) =>
   Array.isArray(v) ? `[${v.map(canonical).join(",")}]`
   : v && typeof v === "object" ? `{${Object.keys(v).sort().map((k) => `${k}:${canonical(v[k])}`).join(",")}}`
-  : typeof v === "number" ? Number(v.toPrecision(6)).toString() : JSON.stringify(v);
+  : typeof v === "number" ? (Number.isInteger(v) ? v.toString() : Number(v.toPrecision(6)).toString())
+  : JSON.stringify(v);
 const same = (a, b, path) => {
   if (typeof a === "number" && typeof b === "number") {
     if (a === b || Math.fround(a) === b || (Number.isNaN(b) && a === null)) return;
