@@ -25,6 +25,10 @@ const MediaApi& media_module() {
 
 void write_image(const std::string& path, const cv::Mat& image) { media_module().write_image(path, image); }
 
+std::vector<unsigned char> encode_jpeg(const cv::Mat& image, int quality) {
+  return media_module().encode_jpeg(image, quality);
+}
+
 VideoOut::VideoOut(const std::string& path, const std::string& fourcc, double fps, cv::Size size) {
   if (fourcc.size() != 4)
     throw std::invalid_argument("video " + path + ": a codec has four characters, not '" + fourcc + "'");

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <opencv2/core.hpp>
 
@@ -11,6 +12,9 @@ namespace hcosim::adapters::vision {
 // Writes an 8-bit grey or BGR image, its format from the extension.
 // Throws std::runtime_error naming the path when it cannot.
 void write_image(const std::string& path, const cv::Mat& image);
+
+// `image` (8-bit grey or BGR) as a JPEG file's bytes, `quality` 0..100.
+std::vector<unsigned char> encode_jpeg(const cv::Mat& image, int quality);
 
 // A video file being written, every frame of one size (BGR, 8 bits).
 class VideoOut {

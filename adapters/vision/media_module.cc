@@ -158,6 +158,13 @@ void write_image(const std::string& path, const cv::Mat& image) {
   if (!cv::imwrite(path, image)) throw std::runtime_error("cannot write the image " + path);
 }
 
+std::vector<unsigned char> encode_jpeg(const cv::Mat& image, int quality) {
+  std::vector<unsigned char> out;
+  if (!cv::imencode(".jpg", image, out, {cv::IMWRITE_JPEG_QUALITY, quality}))
+    throw std::runtime_error("cannot encode an image as JPEG");
+  return out;
+}
+
 void* open_video_out(const std::string& path, const char fourcc[4], double fps, cv::Size size) {
   auto v = std::make_unique<cv::VideoWriter>(path, cv::VideoWriter::fourcc(fourcc[0], fourcc[1], fourcc[2], fourcc[3]),
                                              fps, size);
@@ -175,7 +182,7 @@ void close_video_out(void* video) { delete static_cast<cv::VideoWriter*>(video);
 
 extern "C" const hcosim::adapters::vision::MediaApi* hcosim_media_api() {
   using namespace hcosim::adapters::vision;
-  static const MediaApi api{kMediaApiVersion, capture_folder, capture_video,   capture_v4l2,
-                            write_image,      open_video_out, write_video_out, close_video_out};
+  static const MediaApi api{kMediaApiVersion, capture_folder, capture_video,   capture_v4l2,   write_image,
+                            encode_jpeg,      open_video_out, write_video_out, close_video_out};
   return &api;
 }

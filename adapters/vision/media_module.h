@@ -9,6 +9,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <opencv2/core.hpp>
 
@@ -17,7 +18,7 @@
 namespace hcosim::adapters::vision {
 
 // Bumped when MediaApi changes, so that a module of another build is refused.
-constexpr int kMediaApiVersion = 1;
+constexpr int kMediaApiVersion = 2;
 
 struct MediaApi {
   int version;
@@ -27,6 +28,8 @@ struct MediaApi {
   Source* (*v4l2)(const std::string& device, int width, int height, double fps);
   // An image file, its format from the extension.
   void (*write_image)(const std::string& path, const cv::Mat& image);
+  // An image in memory as JPEG, `quality` 0..100.
+  std::vector<unsigned char> (*encode_jpeg)(const cv::Mat& image, int quality);
   // A video being written: opened (a handle), given frames, closed.
   void* (*open_video_out)(const std::string& path, const char fourcc[4], double fps, cv::Size size);
   void (*write_video_out)(void* video, const cv::Mat& frame);

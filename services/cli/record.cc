@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "services/cli/cli.h"
+#include "services/foxglove/scene.h"
 #include "services/runtime/recording.h"
 #include "services/runtime/service.h"
 
@@ -21,6 +22,8 @@ struct RecordOptions {
   std::vector<std::string> topics;  // none: every topic
   std::string format;               // hcosim or mcap; empty: by the file's name
   std::string compression = "zstd";
+  std::string deployment;  // its scene's objects for the scene channels
+  bool scene = true;       // MCAP: Foxglove's scene channels beside the topics
   double duration_s = 0;
   runtime::DdsOptions dds;
 };
@@ -34,13 +37,25 @@ int record_topics(const RecordOptions& o) {
   runtime::Participant p(o.dds.domain, "hcosim_record", runtime::default_qos_file(), nullptr, false, o.dds.security);
   const runtime::RecordingFormat format =
       o.format.empty() ? runtime::format_of(o.file) : runtime::parse_recording_format(o.format);
-  runtime::Recorder recorder(p, o.file, topics, format, runtime::parse_compression(o.compression));
+  runtime::Derive derive;
+  if (o.scene && format == runtime::RecordingFormat::mcap) {
+    std::vector<adapters::scene::Item> items;
+    adapters::scene::Options scene;
+    if (!o.deployment.empty()) {
+      const runtime::Deployment d = runtime::load_deployment(o.deployment);
+      items = foxglove::scene_items(d), scene.tag_id = foxglove::scene_tag_id(d);
+    }
+    derive = foxglove::scene_channels(std::move(items), scene);
+  }
+  runtime::Recorder recorder(p, o.file, topics, format, runtime::parse_compression(o.compression), derive);
   const std::int64_t end = duration > 0 ? runtime::mono_ns() + std::int64_t(duration * 1e9) : INT64_MAX;
   while (!runtime::stop_requested() && runtime::mono_ns() < end) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   recorder.close();
-  std::cerr << "hcosim record: " << recorder.samples() << " samples to " << o.file << "\n";
+  std::cerr << "hcosim record: " << recorder.samples() << " samples to " << o.file;
+  if (recorder.derived()) std::cerr << ", and " << recorder.derived() << " scene messages for Foxglove";
+  std::cerr << "\n";
   if (const std::string lost = recorder.losses(); !lost.empty())
     std::cerr << "hcosim record: samples Fast DDS reports the recording never received: " << lost << "\n";
   return 0;
@@ -95,6 +110,15 @@ void add_record(CLI::App& app, Command& chosen) {
   c->add_option("--compression", o->compression, "MCAP's chunks: zstd (default), lz4 or none")
       ->option_text("zstd|lz4|none")
       ->check(CLI::IsMember({"zstd", "lz4", "none"}).description(""))
+      ->needs(file);
+  c->add_option("--deployment", o->deployment,
+                "MCAP: draw the scene's objects of this deployment in the scene channels (rigid bodies need their "
+                "size; docs/foxglove.md)")
+      ->option_text("FILE")
+      ->check(CLI::ExistingFile)
+      ->needs(file);
+  c->add_flag(
+       "--no-scene", [o](std::int64_t) { o->scene = false; }, "MCAP: no Foxglove scene channels")
       ->needs(file);
   c->add_option("--duration", o->duration_s, "record for S seconds (0: until Ctrl-C)")
       ->option_text("S")

@@ -16,6 +16,7 @@
 
 #include "adapters/validate.h"
 #include "services/cli/cli.h"
+#include "services/foxglove/scene.h"
 #include "services/cli/supervisor.h"
 #include "services/cli/watcher.h"
 #include "services/runtime/recording.h"
@@ -146,8 +147,13 @@ int up(const UpOptions& o) {
   auto status = std::make_unique<runtime::Reader<ServiceStatus>>(
       *participant, [](const ServiceStatus& s) { return adapters::validate(s); });
   std::unique_ptr<runtime::Recorder> recorder;
-  if (!o.record.empty())
-    recorder = std::make_unique<runtime::Recorder>(*participant, o.record, std::vector<std::string>{});
+  if (!o.record.empty()) {
+    adapters::scene::Options scene;
+    scene.tag_id = foxglove::scene_tag_id(d);
+    recorder = std::make_unique<runtime::Recorder>(*participant, o.record, std::vector<std::string>{},
+                                                   runtime::format_of(o.record), runtime::McapCompression::zstd,
+                                                   foxglove::scene_channels(foxglove::scene_items(d), scene));
+  }
   Supervisor supervisor(logs, d.mode);
   for (const Child& c : children)
     std::printf("  started %-16s pid %-7d %s\n", c.name.c_str(), int(supervisor.start(c)), c.exe.c_str());
@@ -182,8 +188,11 @@ int up(const UpOptions& o) {
   supervisor.stop();
   if (recorder) {
     recorder->close();
-    std::printf("hcosim up: recorded %llu samples to %s\n", static_cast<unsigned long long>(recorder->samples()),
+    std::printf("hcosim up: recorded %llu samples to %s", static_cast<unsigned long long>(recorder->samples()),
                 o.record.c_str());
+    if (const std::uint64_t n = recorder->derived())
+      std::printf(", and %llu scene messages for Foxglove", static_cast<unsigned long long>(n));
+    std::printf("\n");
     if (const std::string lost = recorder->losses(); !lost.empty())
       std::printf("hcosim up: samples Fast DDS reports the recording never received: %s\n", lost.c_str());
   }

@@ -1,5 +1,6 @@
 #include "services/runtime/recording.h"
 
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 
@@ -84,14 +85,7 @@ void RecordingWriter::write(const Record& r) {
       const std::uint16_t schema = mcap_->add_schema(type, "omgidl", idl_schema(type));
       it = channels_.emplace(r.topic, std::make_pair(mcap_->add_channel(schema, r.topic, "cdr"), 0u)).first;
     }
-    McapMessage m;
-    m.channel = it->second.first;
-    m.sequence = it->second.second++;
-    m.log_time = std::uint64_t(r.receive_ns);
-    m.publish_time = std::uint64_t(r.publish_ns);
-    m.data = r.cdr;
-    mcap_->write(m);
-    ++count_;
+    write_mcap(it->second, r.receive_ns, r.publish_ns, r.cdr);
     return;
   }
   // u32 length of the rest, u16 topic length, topic, u64 step, i64 sim time,
@@ -119,6 +113,30 @@ void RecordingWriter::close() {
   if (!out_) throw std::runtime_error(path_ + ": writing the recording failed");
 }
 
+void RecordingWriter::write(const Derived& d, std::int64_t receive_ns, std::int64_t publish_ns) {
+  if (!mcap_) throw std::invalid_argument(path_ + ": derived channels go to MCAP recordings only");
+  auto it = channels_.find(d.topic);
+  if (it == channels_.end()) {
+    auto schema = schemas_.find(d.schema_name);
+    if (schema == schemas_.end())
+      schema = schemas_.emplace(d.schema_name, mcap_->add_schema(d.schema_name, "omgidl", d.schema_text)).first;
+    it = channels_.emplace(d.topic, std::make_pair(mcap_->add_channel(schema->second, d.topic, "cdr"), 0u)).first;
+  }
+  write_mcap(it->second, receive_ns, publish_ns, d.cdr);
+}
+
+void RecordingWriter::write_mcap(std::pair<std::uint16_t, std::uint32_t>& channel, std::int64_t receive_ns,
+                                 std::int64_t publish_ns, const std::vector<std::uint8_t>& cdr) {
+  McapMessage m;
+  m.channel = channel.first;
+  m.sequence = channel.second++;
+  m.log_time = std::uint64_t(receive_ns);
+  m.publish_time = std::uint64_t(publish_ns);
+  m.data = cdr;
+  mcap_->write(m);
+  ++count_;
+}
+
 RecordingReader::RecordingReader(const std::string& path) : path_(path) {
   if (is_mcap(path)) {
     mcap_ = std::make_unique<McapReader>(path);
@@ -139,7 +157,9 @@ bool RecordingReader::next_mcap(Record& r) {
     std::string type;
     with_topic(c.topic, [&](auto tag) { type = TopicOf<typename decltype(tag)::type>::type_name; });
     if (type.empty() || c.message_encoding != "cdr") {
-      ++skipped_;
+      // The scene channels hcosim writes beside the topics are derived from them.
+      const auto schema = mcap_->schemas().find(c.schema_id);
+      if (schema == mcap_->schemas().end() || schema->second.name.rfind("foxglove::", 0) != 0) ++skipped_;
       continue;
     }
     const auto schema = mcap_->schemas().find(c.schema_id);
@@ -193,8 +213,10 @@ bool RecordingReader::next(Record& r) {
 }
 
 Recorder::Recorder(Participant& p, const std::string& path, const std::vector<std::string>& topics,
-                   RecordingFormat format, McapCompression compression)
-    : writer_(path, format, compression) {
+                   RecordingFormat format, McapCompression compression, Derive derive)
+    : path_(path),
+      writer_(path, format, compression),
+      derive_(format == RecordingFormat::mcap ? std::move(derive) : nullptr) {
   for (const std::string& t : topics) {
     if (!with_topic(t, [](auto) {})) throw std::invalid_argument("unknown topic '" + t + "'");
   }
@@ -208,6 +230,14 @@ Recorder::Recorder(Participant& p, const std::string& path, const std::vector<st
         Record rec = make_record(s, wall_ns());
         std::lock_guard<std::mutex> l(m_);
         writer_.write(rec);
+        if (!derive_) return;
+        try {
+          for (const Derived& d : derive_(rec)) writer_.write(d, rec.receive_ns, rec.publish_ns), ++derived_;
+        } catch (const std::exception& e) {
+          // On Fast DDS's thread nothing may escape: the topics go on, the scene stops.
+          std::fprintf(stderr, "hcosim: recording %s: no more scene channels: %s\n", path_.c_str(), e.what());
+          derive_ = nullptr;
+        }
       });
     };
     reader->on_arrival(take);
@@ -221,7 +251,12 @@ Recorder::Recorder(Participant& p, const std::string& path, const std::vector<st
 
 std::uint64_t Recorder::samples() const {
   std::lock_guard<std::mutex> l(m_);
-  return writer_.count();
+  return writer_.count() - derived_;
+}
+
+std::uint64_t Recorder::derived() const {
+  std::lock_guard<std::mutex> l(m_);
+  return derived_;
 }
 
 std::string Recorder::losses() const {

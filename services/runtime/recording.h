@@ -30,6 +30,17 @@ struct Record {
   std::vector<std::uint8_t> cdr;  // the sample, serialized as on the wire (encapsulation header first)
 };
 
+// A message derived from the topics (Foxglove's scene channels,
+// adapters/scene/scene.h), written to MCAP beside them on its own channel.
+struct Derived {
+  std::string topic;
+  std::string schema_name;        // e.g. "foxglove::SceneUpdate"
+  const char* schema_text = "";   // its self-contained OMG IDL
+  std::vector<std::uint8_t> cdr;  // encapsulation header first
+};
+// What a record gives; called with the recorder's lock held.
+using Derive = std::function<std::vector<Derived>(const Record&)>;
+
 enum class RecordingFormat { hcosim, mcap };
 // A recording's format from its name: mcap for a name ending in .mcap.
 RecordingFormat format_of(const std::string& path);
@@ -49,6 +60,8 @@ class RecordingWriter {
   RecordingWriter(const std::string& path, RecordingFormat format, McapCompression compression = McapCompression::zstd);
   explicit RecordingWriter(const std::string& path) : RecordingWriter(path, format_of(path)) {}
   void write(const Record& r);
+  // MCAP only (throws std::invalid_argument otherwise), at the time of the record it comes from.
+  void write(const Derived& d, std::int64_t receive_ns, std::int64_t publish_ns);
   void close();  // throws if anything failed to reach the disk
   std::uint64_t count() const { return count_; }
 
@@ -57,13 +70,18 @@ class RecordingWriter {
   std::ofstream out_;                                                        // hcosim's format, or
   std::unique_ptr<McapWriter> mcap_;                                         // MCAP's
   std::map<std::string, std::pair<std::uint16_t, std::uint32_t>> channels_;  // MCAP: by topic, channel and sequence
+  std::map<std::string, std::uint16_t> schemas_;                             // MCAP: derived channels' schemas by name
   std::uint64_t count_ = 0;
+
+  void write_mcap(std::pair<std::uint16_t, std::uint32_t>& channel, std::int64_t receive_ns, std::int64_t publish_ns,
+                  const std::vector<std::uint8_t>& cdr);
 };
 
 // Reads records in file order, of either format (told by its first bytes).
 // From MCAP, the messages of channels that carry a contract topic in CDR,
 // their step and simulated time from the sample's stamp, their receive
-// time the log time; other channels are skipped and counted. Throws
+// time the log time; other channels are skipped and counted, but for the
+// scene channels (schemas foxglove::*), which are derived from the topics. Throws
 // std::runtime_error naming the file and byte offset for a file that is
 // not a recording or is cut short, and the channel whose schema is not
 // its topic's type.
@@ -144,11 +162,13 @@ class Recorder {
   // unknown topic, std::runtime_error when the file cannot be written.
   Recorder(Participant& p, const std::string& path, const std::vector<std::string>& topics)
       : Recorder(p, path, topics, format_of(path), McapCompression::zstd) {}
+  // `derive` (MCAP only): messages each record gives, written after it.
   Recorder(Participant& p, const std::string& path, const std::vector<std::string>& topics, RecordingFormat format,
-           McapCompression compression);
+           McapCompression compression, Derive derive = nullptr);
   // Stops recording, writes what is left and closes the file.
   void close();
-  std::uint64_t samples() const;
+  std::uint64_t samples() const;  // of the topics
+  std::uint64_t derived() const;  // messages derived from them
   // Samples Fast DDS reports the readers will never receive, per topic,
   // as "Topic N, ..."; empty when none. After close(), those at close().
   std::string losses() const;
@@ -160,7 +180,10 @@ class Recorder {
     std::string name;
   };
   mutable std::mutex m_;  // writer_: several receiving threads write to it
+  std::string path_;
   RecordingWriter writer_;
+  Derive derive_;
+  std::uint64_t derived_ = 0;
   std::vector<Topic> topics_;  // each owning its reader
   std::string losses_;         // losses() at close()
 };

@@ -7,7 +7,8 @@
 # @foxglove/omgidl-serialization to what `hcosim export` prints; the same
 # run recorded in hcosim's format exports the same samples. A file that
 # @mcap/core writes replays into a service as hcosim's own do, and an lz4
-# recording from `hcosim record` reads back too.
+# recording from `hcosim record` reads back too. Foxglove's scene channels
+# decode with their schemas and match the topics they come from.
 source "$(dirname "$0")/lib.sh"
 clients=$(cd "$(dirname "$0")/../interop/mcap" && pwd)
 if [ ! -d "$clients/node_modules/@mcap/core" ] || ! command -v node >/dev/null; then
@@ -21,7 +22,7 @@ for rec in run.mcap run.rec; do
   limit 120 "$BIN/hcosim" up "$WORK/default.yaml" --duration 1 --mode lockstep --record "$WORK/$rec" \
     --out "$WORK/out_$rec" >"$WORK/up_$rec.log" 2>&1 || fail "up --record $rec exited $?"
 done
-recorded=$(sed -nE 's/.*recorded ([0-9]+) samples to .*run.mcap/\1/p' "$WORK/up_run.mcap.log")
+recorded=$(sed -nE 's/.*recorded ([0-9]+) samples to .*run.mcap.*/\1/p' "$WORK/up_run.mcap.log")
 [ -n "$recorded" ] || fail "up did not say what it recorded"
 mkdir "$WORK/export"
 for t in $topics; do
@@ -38,8 +39,13 @@ done
   fail "the recording lacks camera frames or meshes"
 node "$clients/check_mcap.mjs" "$WORK/run.mcap" "$WORK/export" >"$WORK/check.log" 2>&1 ||
   fail "@mcap/core and omgidl: $(cat "$WORK/check.log")"
-grep -q "^check_mcap: $recorded messages on 1[01] channels .*(zstd), CRCs checked, .*; $recorded decoded equal hcosim export" \
+grep -q "^check_mcap: $recorded messages on 1[01] channels and [0-9]* on [0-9]* scene channels .*(zstd), CRCs checked, .*; $recorded decoded equal hcosim export" \
   "$WORK/check.log" || fail "check: $(cat "$WORK/check.log"), up recorded $recorded"
+# Foxglove's scene channels: every object of the default scene, the
+# stylus, the camera's pose and its frames.
+for channel in scene/box scene/ball scene/sheet scene/dome scene/cube scene/organ scene/stylus tf image/cam; do
+  grep -qE "scene: .*\b$channel [1-9]" "$WORK/check.log" || fail "no $channel in: $(cat "$WORK/check.log")"
+done
 
 # Written by @mcap/core: the press of deploy/press.yaml's stylus, replayed
 # into the cube alone in real time, touches it again.
@@ -63,7 +69,7 @@ replayed=$(jq -s '[.[] | select(.source == "cube" and .in_contact) | .answers_se
   fail "@mcap/core's file touched in $replayed states, the recording in $recorded_contact"
 
 # lz4 from hcosim record, beside a real-time run.
-start lz4 "$BIN/hcosim" record "$WORK/lz4.mcap" --compression lz4 --topics HapticState,ForceFeedback,DeformedMesh \
+start lz4 "$BIN/hcosim" record "$WORK/lz4.mcap" --compression lz4 --no-scene --topics HapticState,ForceFeedback,DeformedMesh \
   --duration $((4 * SLOWDOWN))
 sleep 1
 limit 30 "$BIN/hcosim" up "$WORK/press.yaml" --mode realtime --duration 2 --out "$WORK/out_rt" >"$WORK/up_rt.log" 2>&1 ||
@@ -75,5 +81,5 @@ for t in HapticState ForceFeedback DeformedMesh; do
 done
 node "$clients/check_mcap.mjs" "$WORK/lz4.mcap" "$WORK/export_lz4" >"$WORK/check_lz4.log" 2>&1 ||
   fail "lz4: $(cat "$WORK/check_lz4.log")"
-grep -q "on 3 channels .*(lz4)" "$WORK/check_lz4.log" || fail "lz4: $(cat "$WORK/check_lz4.log")"
+grep -q "on 3 channels and 0 on 0 scene channels .*(lz4)" "$WORK/check_lz4.log" || fail "lz4: $(cat "$WORK/check_lz4.log")"
 echo "mcap_test: ok: $(cat "$WORK/check.log"); $(cat "$WORK/write.log"), $replayed of $recorded_contact states in contact replayed; $(cat "$WORK/check_lz4.log")"

@@ -79,8 +79,14 @@ const plain = (v) => {
   return v;
 };
 const decoded = new Map();
+const scene = new Map();  // Foxglove's channels: by topic, their decoded messages
 for await (const m of reader.readMessages({ validateCrcs: true })) {
   const d = decoders.get(m.channelId);
+  if (reader.schemasById.get(reader.channelsById.get(m.channelId).schemaId).name.startsWith("foxglove::")) {
+    if (!scene.has(d.topic)) scene.set(d.topic, []);
+    scene.get(d.topic).push(d.reader.readMessage(m.data));
+    continue;
+  }
   let sample = plain(d.reader.readMessage(m.data));
   // hcosim export gives an image's size, not its bytes.
   if (d.topic === "CameraFrame") {
@@ -94,12 +100,14 @@ await handle.close();
 
 // Against hcosim export: the same samples, field by field. Its floats are
 // their shortest text, so a float32 read back is fround of the text. Both
-// lists are put in one order by their text, integers (steps, stamps) exact
-// so that two nearly equal meshes a step apart never tie.
+// lists are put in one order by their text, every number as the float32
+// nearest it (the same for a sample in both lists, where rounding to a few
+// digits split a float and its text at a boundary) and integers (steps,
+// stamps) exact.
 const canonical = (v) =>
   Array.isArray(v) ? `[${v.map(canonical).join(",")}]`
   : v && typeof v === "object" ? `{${Object.keys(v).sort().map((k) => `${k}:${canonical(v[k])}`).join(",")}}`
-  : typeof v === "number" ? (Number.isInteger(v) ? v.toString() : Number(v.toPrecision(6)).toString())
+  : typeof v === "number" ? (Number.isInteger(v) ? v.toString() : Math.fround(v).toString())
   : JSON.stringify(v);
 const same = (a, b, path) => {
   if (typeof a === "number" && typeof b === "number") {
@@ -125,6 +133,52 @@ for (const [topic, samples] of decoded) {
   for (let i = 0; i < a.length; ++i) same(a[i][1], b[i][1], `${topic}[${i}]`);
   compared += samples.length;
 }
+// The scene channels against the topics they come from: a mesh's
+// triangle list has its DeformedMesh's vertices and its topology's
+// triangles, every camera frame is a JPEG, the camera's pose follows the
+// marker's, the stylus shows at most 60 times a simulated second.
+const sceneNotes = [];
+const topology = new Map((decoded.get("DeformedMeshTopology") ?? []).map((t) => [t.mesh, t]));
+for (const [topic, messages] of scene) {
+  const [kind, name] = topic.split("/");
+  if (kind === "scene" && name !== "stylus") {
+    const meshes = (decoded.get("DeformedMesh") ?? []).filter((m) => m.mesh === name);
+    for (const [i, u] of messages.entries()) {
+      const e = u.entities[0];
+      if (u.entities.length !== 1 || e.id !== name || e.frame_id !== "world" || e.triangles.length !== 1)
+        fail(`${topic}[${i}]: not one entity ${name} in world with one triangle list`);
+      const t = e.triangles[0];
+      if (meshes.length > 0) {
+        const m = meshes[meshes.length - messages.length + i];
+        if (t.points.length * 3 !== m.positions.length) fail(`${topic}[${i}]: ${t.points.length} points, its DeformedMesh ${m.positions.length / 3}`);
+        if (Math.fround(t.points[0].x) !== m.positions[0]) fail(`${topic}[${i}]: first point ${t.points[0].x}, mesh ${m.positions[0]}`);
+        const top = topology.get(name);
+        if (top && t.indices.length !== top.triangles.length) fail(`${topic}[${i}]: ${t.indices.length} indices, topology ${top.triangles.length}`);
+      } else if (t.points.length === 0) fail(`${topic}[${i}]: an empty body`);
+    }
+    if (meshes.length > 0 && messages.length < meshes.length - 1)
+      fail(`${topic}: ${messages.length} scene updates for ${meshes.length} meshes`);
+    sceneNotes.push(`${topic} ${messages.length} (${messages[0].entities[0].triangles[0].points.length} points)`);
+  } else if (kind === "image") {
+    const frames = (decoded.get("CameraFrame") ?? []).filter((f) => f.camera === name);
+    if (messages.length !== frames.length) fail(`${topic}: ${messages.length} images, ${frames.length} camera frames`);
+    for (const im of messages)
+      if (im.format !== "jpeg" || im.data[0] !== 0xff || im.data[1] !== 0xd8 || im.frame_id !== name) fail(`${topic}: not a JPEG in ${name}`);
+    sceneNotes.push(`${topic} ${messages.length} JPEG`);
+  } else if (topic === "tf") {
+    const poses = (decoded.get("MarkerPose") ?? []).filter((p) => p.tag_id === 0);
+    if (messages.length !== poses.length) fail(`tf: ${messages.length} transforms, ${poses.length} marker poses`);
+    sceneNotes.push(`tf ${messages.length}`);
+  } else if (topic === "scene/stylus") {
+    const states = decoded.get("HapticState") ?? [];
+    const span = states.length ? (states[states.length - 1].stamp.sim_time_ns - states[0].stamp.sim_time_ns) / 1e9 : 0;
+    if (messages.length > 60 * span + 2) fail(`scene/stylus: ${messages.length} in ${span} s`);
+    sceneNotes.push(`scene/stylus ${messages.length}`);
+  }
+}
 const compression = [...new Set(reader.chunkIndexes.map((c) => c.compression || "none"))].join(",");
-console.log(`check_mcap: ${streamed} messages on ${reader.channelsById.size} channels in ${reader.chunkIndexes.length} ` +
-  `chunks (${compression}), CRCs checked, a seek from the middle read ${after}; ${compared} decoded equal hcosim export`);
+const sceneMessages = [...scene.values()].reduce((n, l) => n + l.length, 0);
+console.log(`check_mcap: ${streamed - sceneMessages} messages on ${reader.channelsById.size - scene.size} channels and ` +
+  `${sceneMessages} on ${scene.size} scene channels in ${reader.chunkIndexes.length} chunks (${compression}), ` +
+  `CRCs checked, a seek from the middle read ${after}; ${compared} decoded equal hcosim export; ` +
+  `scene: ${sceneNotes.join(", ") || "none"}`);

@@ -1,0 +1,44 @@
+#include "services/foxglove/scene.h"
+
+#include <memory>
+#include <type_traits>
+
+#include "models/rigid/body.h"
+
+namespace hcosim::services::foxglove {
+
+std::vector<adapters::scene::Item> scene_items(const runtime::Deployment& d) {
+  std::vector<adapters::scene::Item> items;
+  for (const YAML::Node& o : d.scene.objects) {
+    adapters::scene::Item it;
+    it.name = o["name"].Scalar();
+    it.kind = o["kind"].Scalar();
+    if (it.kind == "rigid") it.size = o["size"] ? o["size"].as<double>() : models::rigid::Body().size;
+    items.push_back(it);
+  }
+  return items;
+}
+
+int scene_tag_id(const runtime::Deployment& d) {
+  return d.scene.marker.IsMap() && d.scene.marker["id"] ? d.scene.marker["id"].as<int>() : 0;
+}
+
+runtime::Derive scene_channels(std::vector<adapters::scene::Item> items, adapters::scene::Options o) {
+  auto builder = std::make_shared<adapters::scene::Builder>(std::move(items), o);
+  return [builder](const runtime::Record& r) {
+    std::vector<runtime::Derived> out;
+    runtime::with_topic(r.topic, [&](auto tag) {
+      using T = typename decltype(tag)::type;
+      // Only what is drawn is read back from its bytes (not the 1 kHz forces).
+      constexpr bool drawn = std::is_same_v<T, MeshTopology> || std::is_same_v<T, DeformedMesh> ||
+                             std::is_same_v<T, RigidBodyState> || std::is_same_v<T, HapticState> ||
+                             std::is_same_v<T, MarkerPose> || std::is_same_v<T, CameraFrame>;
+      if constexpr (drawn)
+        for (adapters::scene::Message& m : builder->on(runtime::from_cdr<T>(r.cdr)))
+        out.push_back({std::move(m.topic), m.schema, adapters::scene::schema_text(), std::move(m.cdr)});
+    });
+    return out;
+  };
+}
+
+}  // namespace hcosim::services::foxglove
