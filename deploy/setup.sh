@@ -10,6 +10,7 @@ set -euo pipefail
 # openssl: hcosim security init; tshark: the wire test of DDS Security.
 # clang-format-14: deploy/format.sh (.ci/run checks the formatting).
 # libzstd-dev, liblz4-dev, zlib1g-dev: MCAP recordings' chunks and CRCs.
+# libwebsocketpp-dev, libasio-dev: the live Foxglove bridge's WebSocket server.
 # nodejs, npm (only where no node is installed): the MCAP test clients.
 packages=(
   build-essential cmake ninja-build ccache pkg-config
@@ -18,19 +19,22 @@ packages=(
   libmujoco-dev libbullet-dev libqhull-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev googletest libgtest-dev
   libbenchmark-dev
   cyclonedds-dev cyclonedds-tools jq clang libclang-rt-14-dev
-  openssl tshark clang-format-14 libzstd-dev liblz4-dev zlib1g-dev
+  openssl tshark clang-format-14 libzstd-dev liblz4-dev zlib1g-dev libwebsocketpp-dev libasio-dev
 )
 command -v npm >/dev/null || packages+=(nodejs npm)
 
-# MCAP's and Foxglove's npm libraries for integration.mcap, as the
-# lockfile pins them; a machine without the npm registry skips that test.
+# MCAP's and Foxglove's npm libraries for integration.mcap and
+# integration.foxglove, as each folder's lockfile pins them; a machine
+# without the npm registry skips those tests.
 npm_clients() {
-  local dir
-  dir="$(cd "$(dirname "$0")/.." && pwd)/tests/interop/mcap"
-  [ "$dir/node_modules/.package-lock.json" -nt "$dir/package-lock.json" ] && return 0
-  echo "hcosim setup: npm ci in tests/interop/mcap (the MCAP test clients)"
-  (cd "$dir" && npm ci --no-audit --no-fund --ignore-scripts --loglevel=error >/dev/null) ||
-    echo "hcosim setup: npm ci failed: integration.mcap will be skipped" >&2
+  local root dir
+  root="$(cd "$(dirname "$0")/.." && pwd)"
+  for dir in "$root/tests/interop/mcap" "$root/tests/interop/foxglove"; do
+    [ "$dir/node_modules/.package-lock.json" -nt "$dir/package-lock.json" ] && continue
+    echo "hcosim setup: npm ci in ${dir#"$root"/} (test clients)"
+    (cd "$dir" && npm ci --no-audit --no-fund --ignore-scripts --loglevel=error >/dev/null) ||
+      echo "hcosim setup: npm ci failed in ${dir#"$root"/}: its tests will be skipped" >&2
+  done
 }
 
 missing=()

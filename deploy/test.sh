@@ -46,6 +46,8 @@
 # (CMakeLists.txt). integration.mcap is left out there too: its replay of
 # an MCAP file into a live service asserts a count in wall time; the MCAP
 # codec runs under the sanitizers in its unit tests and its fuzz target.
+# integration.foxglove too: it asserts rates and a real-time share; the
+# bridge's server runs under the sanitizers in its unit tests.
 set -euo pipefail
 # run_ctest ARGS...: ctest, then each failed test's own failure lines again
 # at the end, where a CI log's tail shows them.
@@ -76,7 +78,7 @@ if [ "${1:-}" = "--sanitize" ]; then
   # Leaks in third-party libraries only, each explained in the file.
   export LSAN_OPTIONS="suppressions=$root/deploy/lsan.supp"
   run_ctest \
-    -E '^(bench\..*|integration\.(haptic|haptic_loop|deformable|ar_view|tracker|replay|mcap|stall|faults|security_wire|determinism|startup)|interop\.cyclone_mesh|ElasticSurface\.TheCouplingLeavesTheSurfacesForce|Hybrid\.(AStrokeFeelsItsFrictionAndNoMore|TheForceFeltIsTheLoadTakenStartsWithoutAKickAndHoldsSteady|AStepwiseHipPressesWithoutChatter|ForceFeltAgreesWithTheBehaviorModelToAQuarterOfItsSize|ForceGrowsMonotonicallyWithDepth|StifferSidePushesBackHarderInBothModels|ReleaseReturnsToTheRestShape|MinuteLongContactAtTheCentreStaysFinite|TheBehaviorModelDoesNotSnapThroughPastOneCell)|MassspringAdaptivePerIntegrator\.ActivationSpreadsFromTheContactAndRetires/.*|Integrators/ElasticSurfacePerIntegrator\.PressedAndReleasedItRecoversItsRestShape/(velocity_verlet|rk4|implicit_euler|local_global)|Integrators/ElasticSurfacePerIntegrator\.StiffHingesTakeTheirSubstepsAndStayStable/.*|MassspringHardCasesPerIntegrator\.CollapsedAndInvertedBoxRecover/(implicit_euler|local_global|rk4)|MassspringAdaptiveConvergence\.ToTheFullModelWithSubstepsAndImplicitSteps/implicit_euler)$' "$@"
+    -E '^(bench\..*|integration\.(haptic|haptic_loop|foxglove|deformable|ar_view|tracker|replay|mcap|stall|faults|security_wire|determinism|startup)|interop\.cyclone_mesh|ElasticSurface\.TheCouplingLeavesTheSurfacesForce|Hybrid\.(AStrokeFeelsItsFrictionAndNoMore|TheForceFeltIsTheLoadTakenStartsWithoutAKickAndHoldsSteady|AStepwiseHipPressesWithoutChatter|ForceFeltAgreesWithTheBehaviorModelToAQuarterOfItsSize|ForceGrowsMonotonicallyWithDepth|StifferSidePushesBackHarderInBothModels|ReleaseReturnsToTheRestShape|MinuteLongContactAtTheCentreStaysFinite|TheBehaviorModelDoesNotSnapThroughPastOneCell)|MassspringAdaptivePerIntegrator\.ActivationSpreadsFromTheContactAndRetires/.*|Integrators/ElasticSurfacePerIntegrator\.PressedAndReleasedItRecoversItsRestShape/(velocity_verlet|rk4|implicit_euler|local_global)|Integrators/ElasticSurfacePerIntegrator\.StiffHingesTakeTheirSubstepsAndStayStable/.*|MassspringHardCasesPerIntegrator\.CollapsedAndInvertedBoxRecover/(implicit_euler|local_global|rk4)|MassspringAdaptiveConvergence\.ToTheFullModelWithSubstepsAndImplicitSteps/implicit_euler)$' "$@"
   exit
 fi
 "$root/deploy/build.sh"

@@ -22,10 +22,13 @@ constexpr const char* kFrameTransforms = "foxglove::FrameTransforms";
 constexpr const char* kCompressedImage = "foxglove::CompressedImage";
 constexpr double kLeastForce = 0.01;  // N: as the AR view, smaller forces draw no arrow
 
-// A message's classic CDR, as a DDS writer would put it on the wire.
+// A message's classic CDR, as a DDS writer would put it on the wire. The
+// type support is made once a thread: its constructor walks every nested
+// sequence at fastddsgen's default bound for the largest size (a
+// SceneUpdate's took most of a live bridge's CPU, bench foxglove).
 template <class PubSub, class T>
 std::vector<std::uint8_t> cdr(const T& m) {
-  PubSub type;
+  static thread_local PubSub type;
   eprosima::fastrtps::rtps::SerializedPayload_t payload(type.getSerializedSizeProvider(const_cast<T*>(&m))());
   if (!type.serialize(const_cast<T*>(&m), &payload)) throw std::runtime_error("cannot serialize a Foxglove message");
   return {payload.data, payload.data + payload.length};
@@ -145,7 +148,8 @@ ChannelOf Builder::channel(const DeformedMesh& m) const { return {"scene/" + m.m
 ChannelOf Builder::channel(const RigidBodyState& s) const {
   const std::string name = s.body().to_string();
   for (const Item& it : items_)
-    if (it.name == name && it.kind == "rigid" && drawn_shape(s.shape().to_string())) return {"scene/" + name, kSceneUpdate};
+    if (it.name == name && it.kind == "rigid" && drawn_shape(s.shape().to_string()))
+      return {"scene/" + name, kSceneUpdate};
   return {};
 }
 
@@ -156,9 +160,7 @@ ChannelOf Builder::channel(const MarkerPose& p) const {
   return {"tf", kFrameTransforms};
 }
 
-ChannelOf Builder::channel(const CameraFrame& f) const {
-  return {"image/" + f.camera().to_string(), kCompressedImage};
-}
+ChannelOf Builder::channel(const CameraFrame& f) const { return {"image/" + f.camera().to_string(), kCompressedImage}; }
 
 std::vector<Message> Builder::on(const MeshTopology& t) {
   topology_[t.mesh().to_string()] = t;

@@ -23,9 +23,9 @@ namespace hcosim::services::bench {
 namespace {
 
 const std::vector<Suite>& suites() {
-  static const std::vector<Suite> all = {dds_suite(),      massspring_suite(), haptic_suite(),
-                                         hybrid_suite(),   rigid_suite(),      contact_suite(),
-                                         tracking_suite(), arview_suite(),     soak_suite()};
+  static const std::vector<Suite> all = {dds_suite(),      massspring_suite(), haptic_suite(),   hybrid_suite(),
+                                         rigid_suite(),    contact_suite(),    tracking_suite(), arview_suite(),
+                                         foxglove_suite(), soak_suite()};
   return all;
 }
 

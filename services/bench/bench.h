@@ -123,6 +123,9 @@ std::filesystem::path default_deployment(const std::filesystem::path& dir, int d
 pid_t start_up(const std::filesystem::path& deployment, const std::filesystem::path& out,
                const std::filesystem::path& log, const std::filesystem::path& record = {});
 
+// The live Foxglove bridge's cost at the default scene: foxglove.cc.
+Suite foxglove_suite();
+
 // The DDS transport: haptic round trips and mesh publishing against bare
 // Fast DDS: dds.cc.
 Suite dds_suite();

@@ -663,6 +663,14 @@ int peer(const PeerOptions& o) {
   const std::string& impl = o.impl;
   runtime::install_stop_handlers();
   if (o.role == "mesh") return mesh_reader(impl, domain, o.count, o.out, end);
+  if (o.role == "ping") {
+    // The bare pair as a baseline beside a test's deployment, same time, same load.
+    const Rtt r = bare_rtt(domain, o.duration_s, o.priority);
+    std::printf("{\"sent\": %llu, \"lost\": %llu, \"p50_us\": %.1f, \"p99_us\": %.1f, \"within_0_8ms_ratio\": %.6f}\n",
+                (unsigned long long)r.sent, (unsigned long long)r.lost, r.us.percentile(0.5), r.us.percentile(0.99),
+                r.sent ? double(r.us.count_at_most(800)) / double(r.sent) : 0.0);
+    return r.sent > 0 ? 0 : 1;
+  }
   if (impl == "bare") {
     Bare b = Bare::make<ForceFeedback, HapticState>(domain, "ForceFeedback", "HapticState");
     SampleInfo info;
@@ -704,8 +712,10 @@ void add_peer(CLI::App& app, runtime::Command& chosen) {
   c->add_option("--impl", o->impl, "bare Fast DDS or hcosim's endpoints")
       ->required()
       ->check(CLI::IsMember({"bare", "hcosim"}));
-  c->add_option("--role", o->role, "answer round trips (pong) or read meshes (mesh)")
-      ->check(CLI::IsMember({"pong", "mesh"}));
+  c->add_option("--role", o->role,
+                "answer round trips (pong), read meshes (mesh), or ping a bare pong of its own and print the round "
+                "trips as JSON (ping, bare only: a test's same-run baseline)")
+      ->check(CLI::IsMember({"pong", "mesh", "ping"}));
   runtime::add_domain(*c, o->domain);
   c->add_option("--duration", o->duration_s, "run time, s")->check(runtime::within(0, 1e6));
   c->add_option("--count", o->count, "meshes to read")->check(CLI::Range(0, 1000000000));

@@ -20,5 +20,6 @@ void add_track(CLI::App& app, Command& chosen);
 void add_synth(CLI::App& app, Command& chosen);
 void add_video(CLI::App& app, Command& chosen);
 void add_security(CLI::App& app, Command& chosen);
+void add_foxglove(CLI::App& app, Command& chosen);
 
 }  // namespace hcosim::services::cli

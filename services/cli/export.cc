@@ -50,7 +50,7 @@ Key key_of(const runtime::Record& r) {
   runtime::with_topic(r.topic, [&](auto tag) {
     using T = typename decltype(tag)::type;
     T s = runtime::from_cdr<T>(r.cdr);
-    typename runtime::TopicOf<T>::PubSub type;
+    auto& type = runtime::type_support<T>();
     eprosima::fastrtps::rtps::InstanceHandle_t h;
     if (type.m_isGetKeyDefined && type.getKey(&s, &h, false))
       for (std::size_t i = 0; i < k.size(); ++i) k[i] = h.value[i];

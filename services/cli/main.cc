@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   cli::add_echo(app, chosen);
   cli::add_hz(app, chosen);
   cli::add_record(app, chosen);
+  cli::add_foxglove(app, chosen);
   cli::add_export(app, chosen);
   cli::add_replay(app, chosen);
   bench::add_bench(app, chosen);

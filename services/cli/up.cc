@@ -16,9 +16,9 @@
 
 #include "adapters/validate.h"
 #include "services/cli/cli.h"
-#include "services/foxglove/scene.h"
 #include "services/cli/supervisor.h"
 #include "services/cli/watcher.h"
+#include "services/foxglove/scene.h"
 #include "services/runtime/recording.h"
 #include "services/runtime/service.h"
 

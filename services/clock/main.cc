@@ -32,7 +32,7 @@ int run_clock(Options options) {
   std::set<std::string> followers;
   if (!options.deployment.empty())
     for (const auto& s : load_deployment(options.deployment).services)
-      if (s.unneeded.empty()) followers.insert(s.name);
+      if (s.unneeded.empty() && !observes(s)) followers.insert(s.name);
   options.mode = Mode::kLockstep;
   Service svc(options);
   Writer<ClockTick> ticks(svc.participant());

@@ -35,7 +35,7 @@ runtime::Derive scene_channels(std::vector<adapters::scene::Item> items, adapter
                              std::is_same_v<T, MarkerPose> || std::is_same_v<T, CameraFrame>;
       if constexpr (drawn)
         for (adapters::scene::Message& m : builder->on(runtime::from_cdr<T>(r.cdr)))
-        out.push_back({std::move(m.topic), m.schema, adapters::scene::schema_text(), std::move(m.cdr)});
+          out.push_back({std::move(m.topic), m.schema, adapters::scene::schema_text(), std::move(m.cdr)});
     });
     return out;
   };

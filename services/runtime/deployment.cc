@@ -157,8 +157,10 @@ const char* to_string(OnFailure f) {
   return f == OnFailure::kRestart ? "restart" : f == OnFailure::kIgnore ? "ignore" : "stop_all";
 }
 
+bool observes(const ServiceSpec& s) { return s.kind == "foxglove"; }
+
 void check_policy(const ServiceSpec& s, Mode mode) {
-  if (mode == Mode::kLockstep && s.on_failure != OnFailure::kStopAll)
+  if (mode == Mode::kLockstep && s.on_failure != OnFailure::kStopAll && !observes(s))
     throw ConfigError(s.where + ": on_failure: " + to_string(s.on_failure) +
                       " needs mode realtime (in lockstep the "
                       "clock waits on every follower at every step: one cannot be missing or rejoin)");

@@ -51,6 +51,11 @@ struct ServiceSpec {
   int line = 0;       // 1-based line of the entry in the file
 };
 
+// Whether a service only watches the run (kind foxglove, the live bridge):
+// it runs on the wall clock in either mode, and the lockstep clock does
+// not wait for it.
+bool observes(const ServiceSpec& s);
+
 // Throws ConfigError at the service's entry if its on_failure policy cannot
 // hold in `mode`: a lockstep run waits on every follower at every step, so
 // a follower can neither be missing nor rejoin.

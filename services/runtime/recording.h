@@ -101,10 +101,20 @@ class RecordingReader {
   std::uint64_t skipped_ = 0;
 };
 
+// T's type support, made once a thread: its constructor computes the
+// type's largest serialized size, a walk through every nested sequence at
+// fastddsgen's default bound that cost far more than a sample's own
+// serialization (most of a live bridge's CPU, bench foxglove).
+template <class T>
+typename TopicOf<T>::PubSub& type_support() {
+  static thread_local typename TopicOf<T>::PubSub type;
+  return type;
+}
+
 // A sample of T to and from its CDR bytes.
 template <class T>
 std::vector<std::uint8_t> to_cdr(const T& sample) {
-  typename TopicOf<T>::PubSub type;
+  auto& type = type_support<T>();
   eprosima::fastrtps::rtps::SerializedPayload_t payload(type.getSerializedSizeProvider(const_cast<T*>(&sample))());
   if (!type.serialize(const_cast<T*>(&sample), &payload))
     throw std::runtime_error(std::string("cannot serialize a ") + TopicOf<T>::name);
@@ -113,7 +123,7 @@ std::vector<std::uint8_t> to_cdr(const T& sample) {
 
 template <class T>
 T from_cdr(const std::vector<std::uint8_t>& bytes) {
-  typename TopicOf<T>::PubSub type;
+  auto& type = type_support<T>();
   eprosima::fastrtps::rtps::SerializedPayload_t payload(std::uint32_t(bytes.size()));
   std::copy(bytes.begin(), bytes.end(), payload.data);
   payload.length = std::uint32_t(bytes.size());

@@ -117,3 +117,27 @@ domain_ports() {
   local first=$((7400 + 250 * DOMAIN + 10))
   ls /dev/shm | sed -nE 's/^fastrtps_port([0-9]+)$/\1/p' | awk -v f="$first" '$1 >= f && $1 < f + 240' | tr '\n' ' '
 }
+
+# running_then_bare LOG SECONDS: once LOG says every service runs, a bare
+# Fast DDS ping-pong pair at the haptic threads' priority for SECONDS on
+# the next domain (tests/CMakeLists.txt keeps it free), beside the
+# deployment: the machine's own real-time baseline, same time, same load.
+# Sets BARE to its share of round trips within 0.8 ms (the device's wait).
+running_then_bare() {
+  local log=$1 seconds=$2
+  for _ in $(seq 600); do
+    grep -q "every service running" "$log" && break
+    sleep 0.1
+  done
+  grep -q "every service running" "$log" || fail "the deployment never ran: $(cat "$log")"
+  "$BIN/hcosim" bench-peer --impl bare --role ping --domain $((DOMAIN + 1)) --duration "$seconds" --priority 30 \
+    >"$WORK/bare.log" 2>&1 || fail "the bare pair: $(cat "$WORK/bare.log")"
+  BARE=$(tail -n 1 "$WORK/bare.log" | jq -r .within_0_8ms_ratio) || fail "the bare pair: $(cat "$WORK/bare.log")"
+}
+
+# within_bare RATIO: whether a loop's share of ticks answered in time is
+# at least 0.99, or where bare Fast DDS beside it got less than 1.0, at
+# least BARE less 0.01.
+within_bare() {
+  awk -v r="$1" -v b="$BARE" 'BEGIN { bound = b - 0.01 < 0.99 ? b - 0.01 : 0.99; exit !(r >= bound) }'
+}

@@ -1,0 +1,194 @@
+// bench foxglove: the live Foxglove bridge's cost at the default scene.
+//
+// run: deploy/default.yaml's scene and services in real time through
+//   hcosim up, in turn without the bridge and with it (a foxglove service
+//   and a client, services/foxglove/client.h, subscribed to every channel
+//   it advertises, in the bench's process): the device's round trip and
+//   in-tick share from its closing report, and with the bridge its
+//   process's CPU time (/proc) over the measured window and what the
+//   client received. Runs alternate, so that a drift of the machine's load
+//   falls on both.
+// bridge: over the pairs, the bridge's median CPU share of one core and
+//   the median round-trip p99 with the bridge against without it.
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <thread>
+
+#include "adapters/json.h"
+#include "services/bench/bench.h"
+#include "services/foxglove/client.h"
+#include "services/runtime/service.h"
+
+namespace hcosim::services::bench {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string read_all(const fs::path& file) {
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// A process's CPU time so far (user and system), s.
+double cpu_s(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+  std::string stat((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // After the command's closing parenthesis: fields 3.. ; utime and stime are 14 and 15.
+  std::istringstream rest(stat.substr(stat.rfind(')') + 2));
+  std::string field;
+  double ticks = 0;
+  for (int i = 3; i <= 15 && rest >> field; ++i)
+    if (i >= 14) ticks += std::stod(field);
+  return ticks / double(sysconf(_SC_CLK_TCK));
+}
+
+// What `text` says after `pattern`'s one group, or throws naming `what`.
+std::string find(const std::string& text, const std::string& pattern, const std::string& what) {
+  std::smatch m;
+  if (!std::regex_search(text, m, std::regex(pattern))) throw std::runtime_error("bench foxglove: no " + what);
+  return m[1];
+}
+
+struct Run {
+  double rtt_p50_us = NAN, rtt_p99_us = NAN, in_tick = NAN, cpu_share = NAN, seconds = 0;
+  foxglove::ClientCounts client;
+};
+
+Run run(const Context& c, const fs::path& dir, bool bridge, double seconds) {
+  fs::create_directories(dir);
+  const fs::path report = dir / "omni.json", log = dir / "up.log";
+  fs::remove(report);
+  const fs::path file = default_deployment(dir, c.domain, seconds + 10, seconds + 4, report);
+  if (bridge) {
+    YAML::Node d = YAML::LoadFile(file.string());
+    YAML::Node fox;
+    fox["name"] = "fox", fox["kind"] = "foxglove", fox["rate"] = 20, fox["params"]["port"] = 0;
+    d["services"].push_back(fox);
+    std::ofstream(file) << YAML::Dump(d) << "\n";
+  }
+  const pid_t up = start_up(file, dir / "out", log);
+  const std::int64_t deadline = runtime::mono_ns() + std::int64_t(120e9);
+  while (read_all(log).find("every service running") == std::string::npos) {
+    if (runtime::mono_ns() > deadline || waitpid(up, nullptr, WNOHANG) == up) {
+      kill(up, SIGINT);
+      waitpid(up, nullptr, 0);
+      throw std::runtime_error("bench foxglove: the default deployment did not start, see " + log.string());
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  Run r;
+  std::unique_ptr<foxglove::Client> client;
+  pid_t fox = 0;
+  if (bridge) {
+    const int port = std::stoi(
+        find(read_all(dir / "out" / "logs" / "fox.log"), R"(serving ws://127\.0\.0\.1:(\d+))", "port in fox.log"));
+    fox = pid_t(std::stoi(find(read_all(log), R"(started fox +pid (\d+))", "bridge pid in " + log.string())));
+    client = std::make_unique<foxglove::Client>("127.0.0.1", port);
+    std::this_thread::sleep_for(std::chrono::seconds(1));  // connected and subscribed
+  }
+  const double cpu0 = fox ? cpu_s(fox) : 0;
+  const std::int64_t t0 = runtime::mono_ns();
+  std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+  r.seconds = (runtime::mono_ns() - t0) * 1e-9;
+  if (fox) r.cpu_share = (cpu_s(fox) - cpu0) / r.seconds;
+  if (client) {
+    r.client = client->counts();
+    client.reset();
+  }
+  int status = 0;
+  waitpid(up, &status, 0);
+  const std::string json = read_all(report);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || json.empty())
+    throw std::runtime_error("bench foxglove: the default deployment failed (status " + std::to_string(status) +
+                             "), see " + log.string());
+  const adapters::Json j = adapters::parse_json(json, "bench foxglove: the device's report");
+  r.rtt_p50_us = j["p50_us"].get<double>(), r.rtt_p99_us = j["p99_us"].get<double>();
+  r.in_tick = j["on_time_ratio"].get<double>();
+  return r;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? NAN : v.size() % 2 ? v[v.size() / 2] : (v[v.size() / 2 - 1] + v[v.size() / 2]) / 2;
+}
+
+std::vector<Row> foxglove_rows(const Context& c) {
+  const int pairs = c.quick ? 1 : 3;
+  const double seconds = c.quick ? 20 : 30;
+  std::vector<Row> rows;
+  std::vector<double> cpu, p99_on, p99_off, tick_on, tick_off, mb;
+  for (int k = 0; k < pairs; ++k) {
+    for (const bool bridge : {false, true}) {
+      progress("foxglove pair " + std::to_string(k + 1) + " of " + std::to_string(pairs) + ": the default scene " +
+               (bridge ? "with the bridge and a client subscribed to everything" : "without the bridge") + ", " +
+               std::to_string(int(seconds)) + " s");
+      const Run r = run(c, c.out / ("foxglove_" + std::to_string(k) + (bridge ? "_on" : "_off")), bridge, seconds);
+      const auto rate = [&](const std::string& topic) {
+        const auto it = r.client.per_topic.find(topic);
+        return it == r.client.per_topic.end() ? 0.0 : double(it->second) / r.seconds;
+      };
+      Row row{"run",
+              {{"pair", double(k + 1)}, {"bridge", std::string(bridge ? "on" : "off")}, {"seconds", seconds}},
+              {{"rtt_p50_us", r.rtt_p50_us}, {"rtt_p99_us", r.rtt_p99_us}, {"in_tick_ratio", r.in_tick}}};
+      if (bridge) {
+        const double mb_s = double(r.client.bytes) / 1e6 / r.seconds;
+        row.metrics.insert(row.metrics.end(), {{"cpu_share", r.cpu_share},
+                                               {"channels", double(r.client.channels)},
+                                               {"client_mb_per_s", mb_s},
+                                               {"client_messages_per_s", double(r.client.messages) / r.seconds},
+                                               {"cube_scene_per_s", rate("scene/cube")},
+                                               {"organ_scene_per_s", rate("scene/organ")},
+                                               {"images_per_s", rate("image/cam")},
+                                               {"statuses", double(r.client.statuses)}});
+        cpu.push_back(r.cpu_share), p99_on.push_back(r.rtt_p99_us), tick_on.push_back(r.in_tick), mb.push_back(mb_s);
+      } else {
+        p99_off.push_back(r.rtt_p99_us), tick_off.push_back(r.in_tick);
+      }
+      rows.push_back(row);
+    }
+  }
+  rows.push_back({"bridge",
+                  {{"pairs", double(pairs)}, {"seconds", seconds}},
+                  {{"cpu_share", median(cpu)},
+                   {"client_mb_per_s", median(mb)},
+                   {"rtt_p99_us", median(p99_on)},
+                   {"rtt_p99_us_without", median(p99_off)},
+                   {"p99_change", median(p99_on) / median(p99_off) - 1},
+                   {"in_tick_ratio", median(tick_on)},
+                   {"in_tick_ratio_without", median(tick_off)}}});
+  return rows;
+}
+
+}  // namespace
+
+Suite foxglove_suite() {
+  Suite s{"foxglove",
+          "the live Foxglove bridge at the default scene: its CPU share and the haptic round trip with a client "
+          "subscribed to everything, against the same scene without it, in turn",
+          foxglove_rows};
+  s.tables = {
+      {"run",
+       "deploy/default.yaml's scene and services in real time through hcosim up, without and with the bridge (a "
+       "foxglove service, and a client in the bench's process subscribed to every channel it advertises), in turn: "
+       "the device's round trip and in-tick share over the run; with the bridge, its process's CPU time over the "
+       "measured window (/proc, a share of one core) and what the client received a second."},
+      {"bridge",
+       "Over the pairs: the bridge's median CPU share and the client's MB/s, the median round-trip p99 with the "
+       "bridge against without it (p99_change = with / without - 1), and the median in-tick shares."}};
+  s.goals = {
+      {"the bridge at most 10% of one core at the default scene, a client subscribed to everything", "bridge",
+       "cpu_share", 0.10},
+      {"the haptic round-trip p99 changed by under 10% by the bridge and its client", "bridge", "p99_change", 0.10}};
+  return s;
+}
+
+}  // namespace hcosim::services::bench

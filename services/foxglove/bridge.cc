@@ -1,0 +1,149 @@
+#include "services/foxglove/bridge.h"
+
+#include <cstdio>
+#include <type_traits>
+
+#include "adapters/validate.h"
+#include "services/runtime/recording.h"
+#include "services/runtime/service.h"
+#include "services/runtime/topics.h"
+
+namespace hcosim::services::foxglove {
+
+namespace {
+
+// How often the drawing thread draws the scene channels' latest samples:
+// a wake-up for each of the stylus's 1 kHz states cost more than drawing.
+// Under the fastest scene channel's period (60 Hz).
+constexpr std::chrono::milliseconds kDrawPeriod{10};
+
+// The time a sample's messages carry: its stamp's wall time, else now.
+template <class T>
+std::uint64_t time_of(const T& s) {
+  if constexpr (runtime::detail::HasStamp<T>::value) {
+    if (s.stamp().wall_time_ns() > 0) return std::uint64_t(s.stamp().wall_time_ns());
+  }
+  return std::uint64_t(runtime::wall_ns());
+}
+
+}  // namespace
+
+Bridge::Bridge(runtime::Participant& p, Server& server, std::vector<adapters::scene::Item> items,
+               adapters::scene::Options o)
+    : server_(server), builder_(std::move(items), o) {
+  drawer_ = std::thread([this] { draw_loop(); });
+  runtime::for_each_topic([&](auto tag) {
+    using T = typename decltype(tag)::type;
+    using Topic = runtime::TopicOf<T>;
+    const std::uint32_t raw =
+        server_.advertise({Topic::name, "cdr", Topic::type_name, runtime::idl_schema(Topic::type_name), "omgidl"});
+    // Best effort ("control"): no writer waits for this reader. The latched
+    // topology stays reliable and durable, as a mesh cannot be drawn without it.
+    const std::string profile = std::is_same_v<T, MeshTopology> ? Topic::qos : "control";
+    auto reader = std::make_shared<runtime::Reader<T>>(
+        p, [](const T& s) { return adapters::validate(s); }, &rejections_, profile, runtime::kMonitorDepth);
+    auto take_all = [this, r = reader.get(), raw] { r->take([&](const T& s) { take(s, raw); }); };
+    reader->on_arrival(take_all);
+    stops_.push_back([reader] { reader->on_arrival(nullptr); });
+  });
+}
+
+Bridge::~Bridge() {
+  for (auto& stop : stops_) stop();
+  {
+    std::lock_guard<std::mutex> l(m_);
+    stop_ = true;
+  }
+  wake_.notify_one();
+  drawer_.join();
+}
+
+std::uint32_t Bridge::scene_channel(const adapters::scene::ChannelOf& c) {
+  std::lock_guard<std::mutex> l(channels_m_);
+  const auto it = scene_channels_.find(c.topic);
+  if (it != scene_channels_.end()) return it->second;
+  const std::uint32_t id = server_.advertise({c.topic, "cdr", c.schema, adapters::scene::schema_text(), "omgidl"});
+  scene_channels_.emplace(c.topic, id);
+  return id;
+}
+
+template <class T>
+void Bridge::take(const T& s, std::uint32_t raw) {
+  ++samples_;
+  const std::uint64_t t = time_of(s);
+  if (t > newest_ns_) newest_ns_ = t;
+  if (server_.subscribed(raw)) server_.publish(raw, t, runtime::to_cdr(s));
+  if constexpr (std::is_same_v<T, MeshTopology>) {
+    std::lock_guard<std::mutex> l(m_);
+    topologies_.push_back([s](adapters::scene::Builder& b) { return b.on(s); });
+    wake_.notify_one();
+  } else {
+    const adapters::scene::ChannelOf c = builder_.channel(s);
+    if (c.topic.empty()) return;
+    const std::uint32_t id = scene_channel(c);
+    if (!server_.subscribed(id)) return;
+    // No wake-up: the drawing thread comes every kDrawPeriod.
+    std::lock_guard<std::mutex> l(m_);
+    auto& slot = pending_[id];
+    if (slot.first) ++skipped_;
+    slot = {[s](adapters::scene::Builder& b) { return b.on(s); }, t};
+  }
+}
+
+void Bridge::draw_loop() {
+  for (;;) {
+    std::vector<Draw> topologies;
+    std::map<std::uint32_t, std::pair<Draw, std::uint64_t>> pending;
+    {
+      std::unique_lock<std::mutex> l(m_);
+      wake_.wait_for(l, kDrawPeriod, [&] { return stop_ || !topologies_.empty(); });
+      if (stop_) return;
+      topologies.swap(topologies_);
+      pending.swap(pending_);
+    }
+    try {
+      for (const Draw& d : topologies) d(builder_);
+      for (auto& [id, work] : pending) {
+        for (adapters::scene::Message& m : work.first(builder_)) {
+          ++drawn_;
+          server_.publish(id, work.second, std::move(m.cdr));
+        }
+      }
+      unmatched_ = builder_.unmatched();
+    } catch (const std::exception& e) {
+      // A sample the scene cannot draw (validated, so a bug): said, and the rest goes on.
+      std::fprintf(stderr, "foxglove: cannot draw a scene message: %s\n", e.what());
+    }
+  }
+}
+
+void Bridge::tick() {
+  const std::uint64_t t = newest_ns_;
+  if (t != told_ns_.exchange(t)) server_.time(t);
+}
+
+BridgeCounters Bridge::counters() const {
+  BridgeCounters c;
+  c.samples = samples_, c.drawn = drawn_, c.skipped = skipped_, c.unmatched = unmatched_;
+  std::lock_guard<std::mutex> l(rejections_.m);
+  c.refused = rejections_.count;
+  return c;
+}
+
+std::string summary(const Server& server, const Bridge& bridge) {
+  const ServerCounters s = server.counters();
+  const BridgeCounters b = bridge.counters();
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "%llu samples taken, %llu refused; %llu scene messages drawn, %llu samples skipped for newer ones, "
+                "%llu meshes without a topology; %llu connections, %llu messages sent (%.1f MB), %llu held back "
+                "from clients over their limit, %llu dropped with the outbox full, %llu slow clients closed, %llu "
+                "requests refused",
+                (unsigned long long)b.samples, (unsigned long long)b.refused, (unsigned long long)b.drawn,
+                (unsigned long long)b.skipped, (unsigned long long)b.unmatched, (unsigned long long)s.connections,
+                (unsigned long long)s.sent, s.bytes / 1e6, (unsigned long long)s.held_back,
+                (unsigned long long)s.outbox_dropped, (unsigned long long)s.slow_closed, (unsigned long long)s.refused);
+  return line;
+}
+
+}  // namespace hcosim::services::foxglove

@@ -1,0 +1,82 @@
+// A live Foxglove bridge (docs/foxglove.md): every topic of a DDS domain
+// as a channel of its CDR bytes with its OMG IDL schema, and Foxglove's
+// scene channels (adapters/scene/scene.h) drawn from the topics, served
+// by a Server. Only what a client subscribes to is serialised or drawn.
+//
+// Nothing here slows a DDS writer: the readers are best effort (but the
+// latched topology), so no writer waits on their acknowledgements, even
+// in lockstep; on Fast DDS's receiving threads a sample is copied to the
+// server's outbox or handed to the drawing thread, which draws only each
+// scene channel's latest sample (a slower drawing skips samples, counted).
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "adapters/scene/scene.h"
+#include "services/foxglove/server.h"
+#include "services/runtime/endpoint.h"
+#include "services/runtime/participant.h"
+
+namespace hcosim::services::foxglove {
+
+struct BridgeCounters {
+  std::uint64_t samples = 0;    // taken from the topics (admissible ones)
+  std::uint64_t refused = 0;    // samples validation refused (NaN, absurd values): neither sent nor drawn
+  std::uint64_t drawn = 0;      // scene messages drawn
+  std::uint64_t skipped = 0;    // samples a scene channel's next sample replaced before it was drawn
+  std::uint64_t unmatched = 0;  // meshes not drawn for want of their topology
+};
+
+class Bridge {
+ public:
+  // Advertises the topics at once and each scene channel when its first
+  // sample arrives. `server` outlives the bridge.
+  Bridge(runtime::Participant& p, Server& server, std::vector<adapters::scene::Item> items, adapters::scene::Options o);
+  ~Bridge();  // stops the readers, then the drawing thread
+  Bridge(const Bridge&) = delete;
+  Bridge& operator=(const Bridge&) = delete;
+
+  // Tells the clients the newest sample's time (the protocol's time).
+  void tick();
+  BridgeCounters counters() const;
+
+ private:
+  // One sample to draw, with the time of the messages it gives.
+  using Draw = std::function<std::vector<adapters::scene::Message>(adapters::scene::Builder&)>;
+
+  template <class T>
+  void take(const T& s, std::uint32_t raw);
+  std::uint32_t scene_channel(const adapters::scene::ChannelOf& c);
+  void draw_loop();
+
+  Server& server_;
+  adapters::scene::Builder builder_;  // the drawing thread's, but channel()
+  runtime::Rejections rejections_;
+
+  std::mutex channels_m_;
+  std::map<std::string, std::uint32_t> scene_channels_;  // by topic
+
+  std::mutex m_;  // what waits for the drawing thread
+  std::condition_variable wake_;
+  std::vector<Draw> topologies_;                                     // every one, in order
+  std::map<std::uint32_t, std::pair<Draw, std::uint64_t>> pending_;  // by channel: its latest sample, and its time
+  bool stop_ = false;
+
+  std::atomic<std::uint64_t> samples_{0}, drawn_{0}, skipped_{0}, unmatched_{0}, newest_ns_{0}, told_ns_{0};
+  std::thread drawer_;
+  std::vector<std::function<void()>> stops_;  // each reader's, owning it
+};
+
+// One line of what a bridge and its server did, for a closing line.
+std::string summary(const Server& server, const Bridge& bridge);
+
+}  // namespace hcosim::services::foxglove

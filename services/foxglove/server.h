@@ -1,0 +1,90 @@
+// A Foxglove WebSocket protocol server (foxglove.websocket.v1; docs/foxglove.md):
+// it advertises channels, takes clients' subscriptions and sends each
+// subscribed channel's messages as binary frames. No DDS here: the bridge
+// (services/foxglove/bridge.h) gives it channels and messages.
+//
+// Threads: one of its own runs the sockets. publish() and time() may be
+// called from any thread and never block on a client: messages wait in an
+// outbox bounded in bytes, and a client whose socket takes less than it is
+// sent is given no more messages while its unsent bytes exceed a limit,
+// and is closed when they stay over half that limit for slow_client_s
+// after passing it.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace hcosim::services::foxglove {
+
+// A channel as the protocol's advertise message names it.
+struct Channel {
+  std::string topic;
+  std::string encoding;         // "cdr"
+  std::string schema_name;      // e.g. "hcosim::DeformedMesh", "foxglove::SceneUpdate"
+  std::string schema;           // its text
+  std::string schema_encoding;  // "omgidl"
+};
+
+struct ServerOptions {
+  std::string address = "127.0.0.1";         // the interface to listen on
+  int port = 8765;                           // 0: any free port (port() says which)
+  std::string name = "hcosim";               // serverInfo's name
+  std::size_t client_limit_bytes = 8 << 20;  // a client's unsent bytes above which it gets no more messages
+  // The kernel's send buffer of each client's socket (SO_SNDBUF): capped,
+  // so that a client that stops reading shows as unsent bytes here within
+  // a few hundred kB, not after megabytes queued by the kernel's tuning.
+  int socket_buffer_bytes = 256 << 10;
+  double slow_client_s = 2;  // a client over its limit, and since then never under half of it, this long is closed
+  std::size_t outbox_limit_bytes = 64 << 20;  // messages waiting for the socket thread
+};
+
+// What the server has done, for a service's closing line and the bench.
+struct ServerCounters {
+  std::uint64_t clients = 0;         // connected now
+  std::uint64_t connections = 0;     // ever accepted
+  std::uint64_t sent = 0;            // messages sent to a client (one per subscription)
+  std::uint64_t bytes = 0;           // their frames' bytes
+  std::uint64_t held_back = 0;       // messages a client over its limit was not sent
+  std::uint64_t outbox_dropped = 0;  // messages dropped because the outbox was full
+  std::uint64_t slow_closed = 0;     // clients closed for staying over their limit
+  std::uint64_t refused = 0;         // client requests answered with an error status
+};
+
+class Server {
+ public:
+  // Listens at once. Throws std::runtime_error naming address:port when it
+  // cannot (in use, no such interface), std::invalid_argument for options
+  // out of range.
+  explicit Server(ServerOptions o);
+  ~Server();  // closes every client and stops the socket thread
+  Server(const Server&) = delete;
+  Server& operator=(const Server&) = delete;
+
+  int port() const;  // the port listened on
+  const std::string& address() const;
+
+  // Adds a channel and advertises it to the clients; returns its id. Any thread.
+  std::uint32_t advertise(const Channel& c);
+  // Whether any client subscribes to `channel`: publish only then. Lock-free.
+  bool subscribed(std::uint32_t channel) const;
+  // Sends `data` to each client subscribed to `channel`, stamped `time_ns`.
+  // Any thread; returns at once.
+  void publish(std::uint32_t channel, std::uint64_t time_ns, std::vector<std::uint8_t> data);
+  // The server's clock (the protocol's time message), in the messages' time base.
+  void time(std::uint64_t time_ns);
+
+  ServerCounters counters() const;
+
+  static constexpr std::size_t kMaxChannels = 256;
+  static constexpr const char* kSubprotocol = "foxglove.websocket.v1";
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace hcosim::services::foxglove
