@@ -220,9 +220,14 @@ std::string Supervisor::poll(const std::function<bool(const std::string&)>& ran,
     } else if (mode_ == runtime::Mode::kRealtime) {
       return "service '" + c->name + "' finished";
     } else if (c->name == "clock") {
-      // Followers exit by themselves after the last tick.
+      // Followers exit by themselves after the last tick; observers are stopped.
+      const auto followers_reaped = [&] {
+        for (const Child& f : children_)
+          if (!f.reaped && !f.observer) return false;
+        return true;
+      };
       const std::int64_t deadline = runtime::mono_ns() + std::int64_t(kStopGraceS * 1e9);
-      while (!all_reaped() && runtime::mono_ns() < deadline) {
+      while (!followers_reaped() && runtime::mono_ns() < deadline) {
         reap();
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
       }

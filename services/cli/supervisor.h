@@ -29,7 +29,8 @@ struct Child {
   int status = 0;  // waitpid status once reaped
   bool reaped = false;
   int restarts = 0;
-  std::string env;  // one NAME=VALUE added to its environment ("" none)
+  std::string env;        // one NAME=VALUE added to its environment ("" none)
+  bool observer = false;  // runtime::observes: never ends a lockstep run by itself, so not waited for
 };
 
 // build/bin/hcosim_<kind>, searched in $HCOSIM_SERVICE_PATH, then beside

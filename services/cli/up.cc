@@ -96,6 +96,7 @@ int up(const UpOptions& o) {
     }
     runtime::check_policy(s, d.mode);  // --mode may have changed the file's mode
     Child c{s.name, find_service(s.kind, d.file, s.line), common(s.name, s.rate_hz), s.on_failure};
+    c.observer = runtime::observes(s);
     const auto sch = scheduling(s);
     c.args.insert(c.args.end(), sch.begin(), sch.end());
     children.push_back(std::move(c));

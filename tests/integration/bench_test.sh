@@ -71,5 +71,5 @@ diff <(sed 1,4d "$WORK/first.md") <(sed 1,4d "$md") >"$WORK/report.diff" || fail
 [ -s "$WORK/b/dds_mesh_pub_p99_ms.png" ] || fail "bench report drew no plot"
 
 err=$("$BIN/hcosim" bench nosuch --out "$WORK/b" 2>&1); code=$?
-[ $code -eq 2 ] && echo "$err" | grep -q "unknown suite 'nosuch' (suites: dds, massspring, haptic, hybrid, rigid, contact, tracking, arview, soak, all)" || fail "unknown suite: $code $err"
+[ $code -eq 2 ] && echo "$err" | grep -q "unknown suite 'nosuch' (suites: dds, massspring, haptic, hybrid, rigid, contact, tracking, arview, foxglove, soak, all)" || fail "unknown suite: $code $err"
 echo "bench_test: ok (worst hcosim/bare p99 ratio $worst)"

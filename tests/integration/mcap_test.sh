@@ -31,9 +31,12 @@ for t in $topics; do
 done
 # The topics a lockstep run reproduces bit for bit (integration.determinism).
 for t in HapticState ForceFeedback DeformedMesh; do
-  cmp -s <("$BIN/hcosim" export "$WORK/run.mcap" --topic "$t" 2>/dev/null) \
-    <("$BIN/hcosim" export "$WORK/run.rec" --topic "$t" 2>/dev/null) ||
-    fail "$t exports otherwise from MCAP than from hcosim's format of the same lockstep run"
+  "$BIN/hcosim" export "$WORK/run.mcap" --topic "$t" >"$WORK/$t.mcap.jsonl" 2>/dev/null
+  "$BIN/hcosim" export "$WORK/run.rec" --topic "$t" >"$WORK/$t.rec.jsonl" 2>/dev/null
+  cmp -s "$WORK/$t.mcap.jsonl" "$WORK/$t.rec.jsonl" ||
+    fail "$t exports otherwise from MCAP than from hcosim's format of the same lockstep run" \
+      "($(wc -l <"$WORK/$t.mcap.jsonl") and $(wc -l <"$WORK/$t.rec.jsonl") lines; the first that differ:" \
+      "$(diff "$WORK/$t.mcap.jsonl" "$WORK/$t.rec.jsonl" | head -c 1500))"
 done
 [ "$(wc -l <"$WORK/export/CameraFrame.jsonl")" -gt 0 ] && [ "$(wc -l <"$WORK/export/DeformedMesh.jsonl")" -gt 0 ] ||
   fail "the recording lacks camera frames or meshes"

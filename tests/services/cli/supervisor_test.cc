@@ -131,6 +131,27 @@ TEST(Supervisor, InLockstepTheClocksExitEndsTheRun) {
   EXPECT_EQ(said, "");
 }
 
+// An observer (the Foxglove bridge) never exits by itself: once the clock
+// and the followers have, the run ends without waiting out the grace
+// period for it, and stop() ends it.
+TEST(Supervisor, InLockstepTheRunsEndDoesNotWaitForAnObserver) {
+  tests::TempDir dir;
+  Supervisor s(dir.path, Mode::kLockstep);
+  s.start(shell("follower", "exit 0"));
+  Child observer = shell("fox", "exec sleep 30");
+  observer.observer = true;
+  s.start(observer);
+  s.start(shell("clock", "sleep 0.3"));
+  std::string said;
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_EQ(run_until_end(s, said, kRan), "lockstep run complete");
+  const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_LT(took, Supervisor::kStopGraceS) << "waited out the grace period for the observer";
+  EXPECT_FALSE(s.children()[1].reaped);
+  s.stop();
+  EXPECT_TRUE(s.children()[1].reaped);
+}
+
 TEST(Supervisor, AnUnknownKindNamesTheFileLineAndTheKnownKinds) {
   const std::string e = tests::message_of<adapters::ConfigError>([] { find_service("nosuch", "d.yaml", 7); });
   EXPECT_EQ(e.rfind("d.yaml:7:1: no service of kind 'nosuch' (known kinds: ", 0), 0u) << e;
