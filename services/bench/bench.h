@@ -123,6 +123,14 @@ std::filesystem::path default_deployment(const std::filesystem::path& dir, int d
 pid_t start_up(const std::filesystem::path& deployment, const std::filesystem::path& out,
                const std::filesystem::path& log, const std::filesystem::path& record = {});
 
+// Waits until `up` (from start_up, its output in `log`) says every service
+// runs; if it exits first or has not within 120 s, stops it and throws
+// naming `what` and the log.
+void wait_running(pid_t up, const std::filesystem::path& log, const std::string& what);
+
+// A file's whole text ("" when it cannot be read).
+std::string read_all(const std::filesystem::path& file);
+
 // The live Foxglove bridge's cost at the default scene: foxglove.cc.
 Suite foxglove_suite();
 

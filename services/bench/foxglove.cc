@@ -31,13 +31,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_all(const fs::path& file) {
-  std::ifstream in(file);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 // A process's CPU time so far (user and system), s.
 double cpu_s(pid_t pid) {
   std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
@@ -76,15 +69,7 @@ Run run(const Context& c, const fs::path& dir, bool bridge, double seconds) {
     std::ofstream(file) << YAML::Dump(d) << "\n";
   }
   const pid_t up = start_up(file, dir / "out", log);
-  const std::int64_t deadline = runtime::mono_ns() + std::int64_t(120e9);
-  while (read_all(log).find("every service running") == std::string::npos) {
-    if (runtime::mono_ns() > deadline || waitpid(up, nullptr, WNOHANG) == up) {
-      kill(up, SIGINT);
-      waitpid(up, nullptr, 0);
-      throw std::runtime_error("bench foxglove: the default deployment did not start, see " + log.string());
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
+  wait_running(up, log, "bench foxglove");
   Run r;
   std::unique_ptr<foxglove::Client> client;
   pid_t fox = 0;

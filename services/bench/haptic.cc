@@ -85,13 +85,6 @@ Row closed_loop(const Context& c, double seconds) {
            {"ticks", field(json.str(), "ticks")}}};
 }
 
-std::string read_all(const fs::path& file) {
-  std::ifstream in(file);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 Row deployment(const Context& c, double seconds) {
   const fs::path dir = fs::absolute(c.out / "haptic_deployment");
   fs::create_directories(dir);
@@ -101,15 +94,7 @@ Row deployment(const Context& c, double seconds) {
   const pid_t up = start_up(file, dir / "out", log);
   // The bare pair runs once every service does (the run's duration counts
   // from then), and ends before it.
-  const std::int64_t deadline = runtime::mono_ns() + std::int64_t(120e9);
-  while (read_all(log).find("every service running") == std::string::npos) {
-    if (runtime::mono_ns() > deadline || waitpid(up, nullptr, WNOHANG) == up) {
-      kill(up, SIGINT);
-      waitpid(up, nullptr, 0);
-      throw std::runtime_error("bench haptic: the default deployment did not start, see " + log.string());
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
+  wait_running(up, log, "bench haptic");
   const Rtt bare = bare_rtt(c.domain + 1, std::max(1.0, seconds - 4), runtime::kHapticPriority);
   int status = 0;
   waitpid(up, &status, 0);

@@ -24,6 +24,7 @@
 #include <map>
 #include <regex>
 #include <set>
+#include <sstream>
 #include <thread>
 #include <unordered_map>
 
@@ -200,6 +201,25 @@ pid_t start_up(const fs::path& deployment, const fs::path& out, const fs::path& 
     _exit(127);
   }
   return pid;
+}
+
+std::string read_all(const fs::path& file) {
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+void wait_running(pid_t up, const fs::path& log, const std::string& what) {
+  const std::int64_t deadline = runtime::mono_ns() + std::int64_t(120e9);
+  while (read_all(log).find("every service running") == std::string::npos) {
+    if (runtime::mono_ns() > deadline || waitpid(up, nullptr, WNOHANG) == up) {
+      kill(up, SIGINT);
+      waitpid(up, nullptr, 0);
+      throw std::runtime_error(what + ": the default deployment did not start, see " + log.string());
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
 }
 
 fs::path default_deployment(const fs::path& dir, int domain, double seconds, double duration,

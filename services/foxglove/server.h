@@ -33,13 +33,13 @@ struct ServerOptions {
   std::string address = "127.0.0.1";         // the interface to listen on
   int port = 8765;                           // 0: any free port (port() says which)
   std::string name = "hcosim";               // serverInfo's name
-  std::size_t client_limit_bytes = 8 << 20;  // a client's unsent bytes above which it gets no more messages
+  std::size_t client_limit_bytes = 8000000;  // a client's unsent bytes above which it gets no more messages
   // The kernel's send buffer of each client's socket (SO_SNDBUF): capped,
   // so that a client that stops reading shows as unsent bytes here within
   // a few hundred kB, not after megabytes queued by the kernel's tuning.
   int socket_buffer_bytes = 256 << 10;
   double slow_client_s = 2;  // a client over its limit, and since then never under half of it, this long is closed
-  std::size_t outbox_limit_bytes = 64 << 20;  // messages waiting for the socket thread
+  std::size_t outbox_limit_bytes = 64000000;  // messages waiting for the socket thread
 };
 
 // What the server has done, for a service's closing line and the bench.

@@ -61,15 +61,22 @@ services:
 $services
 YAML
 
+# serving OUT LOG: the URL the bridge of the run in $WORK/OUT (its up's
+# output in $WORK/LOG.log) serves, once every service runs.
+serving() {
+  local url=""
+  for _ in $(seq 300); do
+    url=$(sed -nE 's/^fox: serving (ws:[^ ]*) .*/\1/p' "$WORK/$1/logs/fox.log" 2>/dev/null)
+    [ -n "$url" ] && grep -q "every service running" "$WORK/$2.log" && break
+    sleep 0.1
+  done
+  [ -n "$url" ] || fail "the bridge of $1 never said where it serves"
+  echo "$url"
+}
+
 # 1. Real time: the two clients while the deployment runs.
 start up "$BIN/hcosim" up "$WORK/realtime.yaml" --out "$WORK/rt"
-url=""
-for _ in $(seq 300); do
-  url=$(sed -nE 's/^fox: serving (ws:[^ ]*) .*/\1/p' "$WORK/rt/logs/fox.log" 2>/dev/null)
-  [ -n "$url" ] && grep -q "every service running" "$WORK/up.log" && break
-  sleep 0.1
-done
-[ -n "$url" ] || fail "the bridge never said where it serves"
+url=$(serving rt up) || exit 1
 node "$clients/check_bridge.mjs" "$url" 8 sheet cam --stall >"$WORK/stall.log" 2>&1 &
 stall=$!
 limit 30 node "$clients/check_bridge.mjs" "$url" 5 sheet cam >"$WORK/client.log" 2>&1 ||
@@ -101,13 +108,7 @@ grep -vE "^  (marker|camera):" "$WORK/realtime.yaml" | sed -E -e '/^  - name: ca
   -e 's/port: 0/port: 0, client_limit_mb: 0.5/' >"$WORK/loop.yaml"
 grep -q "kind: tracker" "$WORK/loop.yaml" && fail "the loop's scene still has a camera"
 start loop "$BIN/hcosim" up "$WORK/loop.yaml" --out "$WORK/loop"
-url=""
-for _ in $(seq 300); do
-  url=$(sed -nE 's/^fox: serving (ws:[^ ]*) .*/\1/p' "$WORK/loop/logs/fox.log" 2>/dev/null)
-  [ -n "$url" ] && grep -q "every service running" "$WORK/loop.log" && break
-  sleep 0.1
-done
-[ -n "$url" ] || fail "the loop's bridge never said where it serves"
+url=$(serving loop loop) || exit 1
 limit 30 node "$clients/check_bridge.mjs" "$url" 8 sheet cam --stall >"$WORK/stall2.log" 2>&1 &
 stall=$!
 running_then_bare "$WORK/loop.log" 7
@@ -152,4 +153,18 @@ limit 60 "$BIN/hcosim" up "$WORK/taken.yaml" --duration 3 --out "$WORK/taken" >"
 grep -q "cannot listen on 127.0.0.1:$port" "$WORK/taken/logs/fox.log" ||
   fail "the port in use is not named: $(cat "$WORK/taken/logs/fox.log")"
 for p in $(pgrep -f "$WORK/taken.yaml"); do fail "left running: $(ps -o args= -p "$p")"; done
+
+# 5. NaN from DDS: a source whose every 5th HapticState is NaN, served by
+# hcosim foxglove above. A client sees only finite samples, and the bridge
+# counts what it refused.
+probe src 100 source ", nan_every: 5"
+limit 30 node "$clients/check_bridge.mjs" "ws://127.0.0.1:$port" 4 none none --finite HapticState >"$WORK/finite.log" 2>&1 ||
+  fail "the client of HapticState: $(cat "$WORK/finite.log")"
+got=$(tail -n 1 "$WORK/finite.log")
+echo "$got" | jq -e '.rates.HapticState.count > 100' >/dev/null || fail "too few HapticState samples: $got"
+kill -INT "${PIDS[2]}"
+wait "${PIDS[2]}" || fail "hcosim foxglove exited $?: $(cat "$WORK/cli.log")"
+refused=$(sed -nE 's/^hcosim foxglove: [0-9]+ samples taken, ([0-9]+) refused.*/\1/p' "$WORK/cli.log")
+[ "${refused:-0}" -gt 20 ] || fail "the bridge refused ${refused:-no} NaN samples: $(tail -n 1 "$WORK/cli.log")"
+echo "foxglove_test: NaN: $(echo "$got" | jq -c .rates.HapticState), $refused refused by the bridge"
 echo "foxglove_test: ok"

@@ -3,12 +3,14 @@
 // message decoded with its advertised OMG IDL schema by
 // @foxglove/omgidl-parser and @foxglove/omgidl-serialization.
 //
-// node check_bridge.mjs URL SECONDS MESH CAMERA [--stall]
+// node check_bridge.mjs URL SECONDS MESH CAMERA [--stall | --finite TOPIC]
 // Subscribes to scene/MESH, image/CAMERA and DeformedMesh for SECONDS,
 // checks every scene update's triangle list against the latest
 // DeformedMesh of MESH, every image as a JPEG, and prints one JSON line of
 // what arrived. --stall: subscribes to every channel and then stops
 // reading its socket (a client that hangs), printing what it saw until then.
+// --finite TOPIC: subscribes to TOPIC alone and fails on any sample with a
+// number that is not finite (the bridge refuses NaN from DDS).
 import wsProtocol from "@foxglove/ws-protocol";
 import { parseIDL } from "@foxglove/omgidl-parser";
 import { MessageReader } from "@foxglove/omgidl-serialization";
@@ -16,8 +18,9 @@ import WebSocket from "ws";
 
 const { FoxgloveClient } = wsProtocol; // a CommonJS module
 
-const [url, seconds, mesh, camera, mode] = process.argv.slice(2);
+const [url, seconds, mesh, camera, mode, finiteTopic] = process.argv.slice(2);
 const stall = mode === "--stall";
+const finite = mode === "--finite";
 const fail = (why) => {
   console.error(`check_bridge: ${why}`);
   process.exit(1);
@@ -32,7 +35,12 @@ let times = 0;
 let lastMesh; // the latest DeformedMesh of MESH
 let checked = 0;
 let closed;
-const wanted = stall ? null : new Set([`scene/${mesh}`, `image/${camera}`, "DeformedMesh"]);
+const wanted = stall ? null : new Set(finite ? [finiteTopic] : [`scene/${mesh}`, `image/${camera}`, "DeformedMesh"]);
+// Every number in a decoded message, nested fields included.
+const numbers = (v) =>
+  typeof v === "number" ? [v]
+  : v && typeof v === "object" ? Object.values(v).flatMap(numbers)
+  : [];
 
 client.on("error", (e) => fail(`client error: ${e?.message ?? e}`));
 client.on("close", (e) => (closed = { code: e.code, reason: String(e.reason ?? "") }));
@@ -63,6 +71,7 @@ client.on("message", ({ subscriptionId, timestamp, data }) => {
   ++s.count, (s.last = now), (s.bytes += data.byteLength);
   seen.set(c.topic, s);
   if (stall) return;
+  if (finite && numbers(m).some((x) => !Number.isFinite(x))) fail(`${c.topic}: a sample with a number not finite`);
   if (c.topic === "DeformedMesh" && m.mesh === mesh) lastMesh = m;
   if (c.topic === `scene/${mesh}`) {
     const e = m.entities?.[0];
