@@ -50,7 +50,11 @@ Key key_of(const runtime::Record& r) {
   runtime::with_topic(r.topic, [&](auto tag) {
     using T = typename decltype(tag)::type;
     T s = runtime::from_cdr<T>(r.cdr);
-    auto& type = runtime::type_support<T>();
+    // A type support of its own, not runtime::type_support's: getKey keeps
+    // state in it (its key buffer and MD5), and a shared one gave every
+    // sample after the first the same key, so one step's samples kept their
+    // arrival order (integration.mcap saw two runs' ForceFeedback differ so).
+    typename runtime::TopicOf<T>::PubSub type;
     eprosima::fastrtps::rtps::InstanceHandle_t h;
     if (type.m_isGetKeyDefined && type.getKey(&s, &h, false))
       for (std::size_t i = 0; i < k.size(); ++i) k[i] = h.value[i];

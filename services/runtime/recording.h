@@ -104,7 +104,8 @@ class RecordingReader {
 // T's type support, made once a thread: its constructor computes the
 // type's largest serialized size, a walk through every nested sequence at
 // fastddsgen's default bound that cost far more than a sample's own
-// serialization (most of a live bridge's CPU, bench foxglove).
+// serialization (most of a live bridge's CPU, bench foxglove). For
+// serializing only: its getKey keeps state between calls (export.cc).
 template <class T>
 typename TopicOf<T>::PubSub& type_support() {
   static thread_local typename TopicOf<T>::PubSub type;
