@@ -13,8 +13,8 @@ namespace hcosim::services::foxglove {
 namespace {
 
 // How often the drawing thread draws the scene channels' latest samples:
-// a wake-up for each of the stylus's 1 kHz states cost more than drawing.
-// Under the fastest scene channel's period (60 Hz).
+// once a period rather than a wake-up for each of the stylus's 1 kHz
+// states. Under the fastest scene channel's period (60 Hz).
 constexpr std::chrono::milliseconds kDrawPeriod{10};
 
 // The time a sample's messages carry: its stamp's wall time, else now.

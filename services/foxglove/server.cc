@@ -92,9 +92,8 @@ struct Server::Impl {
     outbox.push_back(std::move(out));
   }
 
-  // The socket thread sends what waits every kFlushPeriod: a wake-up per
-  // message (17,000 a second at the default scene) cost more CPU than
-  // sending them.
+  // The socket thread sends what waits every kFlushPeriod, so that a
+  // burst of messages costs it one wake-up, not one each.
   void flush_every_period() {
     flush();
     flush_timer->expires_after(kFlushPeriod);
