@@ -8,12 +8,15 @@
 # both at the visual rate (25 Hz; at least 70 % of it here, on a loaded
 # machine). A second client subscribes to everything and stops reading:
 # the bridge holds it back and closes it. Then, on integration.haptic_loop's
-# scene (no camera: a synthetic camera's rendering beside the 1 kHz loop
-# left only 0.960 to 0.981 of ticks in time here with no bridge at all),
-# a client that stops reading leaves the haptic loop within that test's
-# bound (99 % of ticks answered within the tick, or a bare Fast DDS pair's
-# share beside it less 0.02 where the machine gives less: within_bare). In lockstep the clock
-# does not wait for the bridge; a port in use is named.
+# objects (no camera, whose rendering beside the 1 kHz loop costs ticks of
+# its own), the stylus presses the sheet for 7 s twice: with no bridge, and
+# with the bridge and a client that subscribes to everything and stops
+# reading. The second run's share of ticks answered within the tick must be
+# the first's less 0.03 or more (or 99 %): a client that stops reading
+# couples nothing to the loop. The first run is the reference because this
+# machine does not give the loop its goal by itself: four 7 s presses with
+# no bridge answered 0.961 to 0.971 of ticks in time here (2026-12-05). In
+# lockstep the clock does not wait for the bridge; a port in use is named.
 source "$(dirname "$0")/lib.sh"
 clients=$(cd "$(dirname "$0")/../interop/foxglove" && pwd)
 if [ ! -d "$clients/node_modules/@foxglove/ws-protocol" ] || ! command -v node >/dev/null; then
@@ -102,29 +105,28 @@ echo "$summary" | grep -qE " 2 connections" || fail "two clients were expected: 
 echo "$summary" | grep -qE " [1-9][0-9]* held back .* 1 slow clients closed" ||
   fail "the stalled client was not held back and closed: $summary"
 
-# 2. integration.haptic_loop's scene with the bridge and a client that
-# subscribes to everything and stops reading.
-grep -vE "^  (marker|camera):" "$WORK/realtime.yaml" | sed -E -e '/^  - name: cam$/,+2d' \
-  -e 's/port: 0/port: 0, client_limit_mb: 0.5/' >"$WORK/loop.yaml"
+# 2. The sheet pressed for 7 s, with no bridge, then beside a bridge and a
+# client that subscribes to everything and stops reading.
+sed -e 's/duration: 1}/duration: 7}/' "$WORK/tour.yaml" >"$WORK/press.yaml"
+grep -vE "^  (marker|camera):" "$WORK/realtime.yaml" | sed -E -e '/^  - name: cam$/,+2d' -e 's/tour.yaml/press.yaml/' \
+  -e 's/port: 0/port: 0, client_limit_mb: 0.5/' -e 's/report: omni.json/report: loop.json/' >"$WORK/loop.yaml"
 grep -q "kind: tracker" "$WORK/loop.yaml" && fail "the loop's scene still has a camera"
+sed -E -e '/^  - name: fox$/,+3d' -e 's/loop.json/alone.json/' "$WORK/loop.yaml" >"$WORK/alone.yaml"
+grep -q "kind: foxglove" "$WORK/alone.yaml" && fail "the reference run still has the bridge"
+limit 60 "$BIN/hcosim" up "$WORK/alone.yaml" --out "$WORK/alone" >"$WORK/alone.log" 2>&1 || fail "up without the bridge exited $?"
 start loop "$BIN/hcosim" up "$WORK/loop.yaml" --out "$WORK/loop"
 url=$(serving loop loop) || exit 1
-limit 30 node "$clients/check_bridge.mjs" "$url" 8 sheet cam --stall >"$WORK/stall2.log" 2>&1 &
-stall=$!
-running_then_bare "$WORK/loop.log" 7
-wait $stall || fail "the stalled client: $(cat "$WORK/stall2.log")"
+limit 30 node "$clients/check_bridge.mjs" "$url" 8 sheet cam --stall >"$WORK/stall2.log" 2>&1 ||
+  fail "the stalled client: $(cat "$WORK/stall2.log")"
 wait "${PIDS[1]}" || fail "up exited $?"
 summary=$(grep "^fox: .*samples taken" "$WORK/loop/logs/fox.log") || fail "no closing line from the loop's bridge"
 echo "$summary" | grep -qE " [1-9][0-9]* held back .* 1 slow clients closed" ||
   fail "the stalled client was not held back and closed: $summary"
-ratio=$(jq -r .on_time_ratio "$WORK/omni.json")
-echo "foxglove_test: beside a client that stopped reading, $ratio of ticks answered within the tick; bare Fast DDS beside it: $BARE"
-# A margin of 0.02: the bridge's readers add a delivery to each haptic
-# write, whose cost bench foxglove measures (p99_change); what this checks
-# is that a client that stops reading couples nothing more to the loop
-# (one that did would stall it far below). In the full ctest run of
-# 2026-12-05 the loop got 0.9745 against the pair's 0.9897.
-within_bare "$ratio" 0.02 || fail "only $ratio of ticks answered within the tick beside the bridge (bare Fast DDS: $BARE)"
+alone=$(jq -r .on_time_ratio "$WORK/alone.json")
+ratio=$(jq -r .on_time_ratio "$WORK/loop.json")
+echo "foxglove_test: pressing the sheet, $ratio of ticks answered within the tick beside a client that stopped reading; $alone with no bridge"
+awk -v r="$ratio" -v a="$alone" 'BEGIN { bound = a - 0.03 < 0.99 ? a - 0.03 : 0.99; exit !(r >= bound) }' ||
+  fail "only $ratio of ticks answered within the tick beside the bridge ($alone with no bridge)"
 
 # 3. Lockstep: the clock steps its four followers, not the bridge.
 deployment lockstep.yaml <<YAML
