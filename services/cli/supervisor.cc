@@ -233,7 +233,15 @@ std::string Supervisor::poll(const std::function<bool(const std::string&)>& ran,
       }
       return "lockstep run complete";
     }
-    // A lockstep follower that exits 0 has seen the last tick; the clock ends the run.
+    // A lockstep follower that exits 0 has seen the last tick; the clock
+    // ends the run, or on a host the clock is not on (hcosim up --host),
+    // the last of its followers.
+    bool clock_here = false, followers_done = true;
+    for (const Child& f : children_) {
+      clock_here = clock_here || f.name == "clock";
+      followers_done = followers_done && (f.reaped || f.observer);
+    }
+    if (!clock_here && followers_done) return "lockstep run complete (the clock runs on another host)";
   }
   return "";
 }

@@ -58,6 +58,7 @@ struct UpOptions {
   std::string mode;         // "": the file's
   std::string out = "out";
   std::string record;
+  std::string host;  // "": every service, here
 };
 
 int up(const UpOptions& o) {
@@ -88,8 +89,16 @@ int up(const UpOptions& o) {
   const auto scheduling = [](const runtime::ServiceSpec& s) {
     return std::vector<std::string>{"--priority", std::to_string(s.priority), "--cpu", std::to_string(s.cpu)};
   };
+  // With --host, this host's services; the clock where the file puts it.
+  std::vector<const runtime::ServiceSpec*> mine;
+  if (o.host.empty())
+    for (const auto& s : d.services) mine.push_back(&s);
+  else
+    mine = runtime::services_on(d, o.host);
+  const bool clock_here = o.host.empty() || o.host == d.clock_host;
   std::vector<Child> children;
-  for (const auto& s : d.services) {
+  for (const runtime::ServiceSpec* sp : mine) {
+    const runtime::ServiceSpec& s = *sp;
     if (!s.unneeded.empty()) {
       std::printf("hcosim up: not starting %s: %s\n", s.name.c_str(), s.unneeded.c_str());
       continue;
@@ -101,12 +110,16 @@ int up(const UpOptions& o) {
     c.args.insert(c.args.end(), sch.begin(), sch.end());
     children.push_back(std::move(c));
   }
-  // The clock alone would step nothing: surely a mistake in the file.
-  if (children.empty())
-    throw adapters::ConfigError(d.services_where + ": nothing to run: " +
+  // Nothing to run is a mistake in the file; the clock alone steps
+  // nothing but on its host of several (--host).
+  const bool runs_clock = d.mode == runtime::Mode::kLockstep && clock_here;
+  if (children.empty() && !(runs_clock && !o.host.empty()))
+    throw adapters::ConfigError(d.services_where + ": nothing to run" + (o.host.empty() ? "" : " on host " + o.host) +
+                                ": " +
                                 (d.services.empty() ? std::string("the deployment lists no services")
+                                 : mine.empty()     ? "no service says host: " + o.host
                                                     : "the scene needs none of its services (above)"));
-  if (d.mode == runtime::Mode::kLockstep) {
+  if (runs_clock) {
     Child clock{"clock", find_service("clock", d.file, 1), common("clock", 1.0 / d.step_s)};
     std::ostringstream dur;
     dur.precision(17);
@@ -129,8 +142,9 @@ int up(const UpOptions& o) {
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
 
-  std::printf("hcosim up: %s, domain %d, %s, %zu service(s)%s%s\n", d.file.c_str(), d.domain,
-              runtime::to_string(d.mode), children.size(), d.duration_s > 0 ? "" : ", until Ctrl-C",
+  std::printf("hcosim up: %s, domain %d, %s, %zu service(s)%s%s%s\n", d.file.c_str(), d.domain,
+              runtime::to_string(d.mode), children.size(), o.host.empty() ? "" : (" on host " + o.host).c_str(),
+              d.duration_s > 0 ? "" : ", until Ctrl-C",
               security.on() ? (", DDS Security on (" + d.security + ")").c_str() : "");
   std::vector<std::string> names;
   for (const auto& c : children) names.push_back(c.name);
@@ -228,6 +242,10 @@ void add_up(CLI::App& app, Command& chosen) {
       ->option_text("realtime|lockstep")
       ->check(CLI::IsMember({"realtime", "lockstep"}).description(""));
   c->add_option("--out", o->out, "folder for logs and the services' outputs (default: out)")->option_text("DIR");
+  c->add_option("--host", o->host,
+                "start only the services the file places on host NAME (and the lockstep clock if it is there); "
+                "each host of the rig runs its own hcosim up with the same file (docs/deployment.md)")
+      ->option_text("NAME");
   c->add_option("--record", o->record,
                 "record every topic of the run into REC, MCAP for a name ending in .mcap (docs/recording.md)")
       ->option_text("REC");

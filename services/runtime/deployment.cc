@@ -1,9 +1,12 @@
 #include "services/runtime/deployment.h"
 
+#include <arpa/inet.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <set>
 
@@ -23,7 +26,7 @@ ServiceSpec parse_service(const Config& c) {
   const std::string& file = c.file();
   const YAML::Node& node = c.node();
   if (!node.IsMap()) c.fail("", "each service must be a map with name, kind and rate");
-  c.allow_only({"name", "kind", "rate", "params", "on_failure", "objects", "priority", "cpu"});
+  c.allow_only({"name", "kind", "rate", "params", "on_failure", "objects", "priority", "cpu", "host"});
   c.require({"name", "kind", "rate"}, "service");
   ServiceSpec s;
   s.line = node.Mark().line + 1;
@@ -46,6 +49,7 @@ ServiceSpec parse_service(const Config& c) {
   s.priority = c.whole("priority", s.priority, 0, 99);
   s.cpu = c.whole("cpu", s.cpu, 0, 1023);
   s.params = c.map("params").node();
+  s.host = c.string("host", "");
   if (c.has("objects")) {
     const YAML::Node n = node["objects"];
     if (!n.IsSequence()) c.fail("objects", "'objects' must be a list of scene object names");
@@ -55,6 +59,76 @@ ServiceSpec parse_service(const Config& c) {
     }
   }
   return s;
+}
+
+// The hosts: list. A host has a name and its address or interface, not
+// both; one host (the first unless one says `clock: true`) runs the
+// lockstep clock. Two hosts cannot share an address.
+void parse_hosts(const Config& root, Deployment& d) {
+  const YAML::Node n = root.node()["hosts"];
+  if (!n.IsSequence() || n.size() == 0)
+    root.fail("hosts", "'hosts' must be a list of {name, address or interface} (docs/deployment.md)");
+  std::map<std::string, std::string> address_of;  // address -> where
+  std::string clock_where;                        // of the host that says clock: on
+  for (const Config& h : root.list("hosts")) {
+    if (!h.node().IsMap()) h.fail("", "each host must be a map with name and address or interface");
+    h.allow_only({"name", "address", "interface", "clock"});
+    h.require({"name"}, "host");
+    Host host;
+    host.name = h.string("name", "");
+    host.where = h.where();
+    if (!std::regex_match(host.name, std::regex("[a-z][a-z0-9_]{0,30}")))
+      h.fail("name", "host name '" + host.name + "' must be 1 to 31 of a-z, 0-9, _ and start with a letter");
+    for (const Host& other : d.hosts)
+      if (other.name == host.name)
+        h.fail("name", "host '" + host.name + "' is defined twice (first at " + other.where + ")");
+    if (h.has("address") == h.has("interface"))
+      h.fail("", "host '" + host.name + "' needs its address or its interface (one of them)");
+    if (h.has("address")) {
+      host.address = h.string("address", "");
+      in_addr parsed{};
+      if (inet_pton(AF_INET, host.address.c_str(), &parsed) != 1)
+        h.fail("address", "'" + host.address + "' is not an IPv4 address (a.b.c.d)");
+      const auto [it, fresh] = address_of.emplace(host.address, h.where("address"));
+      if (!fresh) h.fail("address", "address " + host.address + " is another host's too (" + it->second + ")");
+    } else {
+      host.interface = h.string("interface", "");
+      if (!std::regex_match(host.interface, std::regex("[A-Za-z0-9_.-]{1,15}")))
+        h.fail("interface",
+               "'" + host.interface + "' is not a network interface name (1 to 15 of A-Z, a-z, 0-9, _ . -)");
+    }
+    if (h.on("clock", false)) {
+      if (!clock_where.empty())
+        h.fail("clock",
+               "host '" + d.clock_host + "' runs the lockstep clock already (" + clock_where + "): one host does");
+      d.clock_host = host.name;
+      clock_where = h.where("clock");
+    }
+    d.hosts.push_back(std::move(host));
+  }
+  if (d.clock_host.empty()) d.clock_host = d.hosts.front().name;
+}
+
+// Every service is on one of the hosts when the file has hosts, and names
+// none when it has not.
+void check_placement(const Config& root, const Deployment& d) {
+  const YAML::Node list = root.node()["services"];
+  for (std::size_t i = 0; i < d.services.size(); ++i) {
+    const ServiceSpec& s = d.services[i];
+    const Config entry(root.file(), list[i]);
+    if (d.hosts.empty()) {
+      if (entry.has("host"))
+        entry.fail("host",
+                   "service '" + s.name + "' names a host, but the file has no hosts: list (docs/deployment.md)");
+      continue;
+    }
+    if (!entry.has("host"))
+      entry.fail("", "service '" + s.name + "' is on no host: say host: NAME, one of the hosts at " + d.hosts_where);
+    bool known = false;
+    std::string names;
+    for (const Host& h : d.hosts) known = known || h.name == s.host, names += (names.empty() ? "" : ", ") + h.name;
+    if (!known) entry.fail("host", "no host '" + s.host + "' in hosts: (" + names + ")");
+  }
 }
 
 Scene parse_scene(const Config& c) {
@@ -210,11 +284,11 @@ std::vector<ForceSource> force_sources(const Deployment& d, const std::string& d
 
 Deployment load_deployment(const std::string& path) {
   const Config root = Config::load(path, "a deployment");
-  root.allow_only({"domain", "mode", "step", "duration", "security", "scene", "services"});
+  root.allow_only({"domain", "mode", "step", "duration", "security", "hosts", "scene", "services"});
 
   Deployment d;
   d.file = path;
-  d.services_where = path + ":1:1";
+  d.services_where = d.hosts_where = path + ":1:1";
   d.domain = root.whole("domain", d.domain, 0, kMaxDomain);
   d.mode = parse_mode(root.text("mode", to_string(d.mode), {"realtime", "lockstep"}));
   d.step_s = root.number("step", d.step_s, 1e-6, 1);
@@ -230,6 +304,10 @@ Deployment load_deployment(const std::string& path) {
     if (dir.is_relative()) dir = fs::path(path).parent_path() / dir;
     d.security = dir.lexically_normal().string();
     d.security_where = root.where("security");
+  }
+  if (root.has("hosts")) {
+    d.hosts_where = root.where("hosts");
+    parse_hosts(root, d);
   }
   if (root.has("scene")) d.scene = parse_scene(Config(path, root.node()["scene"]));
   if (root.has("services")) {
@@ -248,7 +326,21 @@ Deployment load_deployment(const std::string& path) {
     }
     give_tip_radius(path, d);
   }
+  check_placement(root, d);
   return d;
+}
+
+std::vector<const ServiceSpec*> services_on(const Deployment& d, const std::string& host) {
+  if (d.hosts.empty())
+    throw ConfigError(d.hosts_where + ": --host " + host + ": the deployment has no hosts: list (docs/deployment.md)");
+  std::string names;
+  bool known = false;
+  for (const Host& h : d.hosts) known = known || h.name == host, names += (names.empty() ? "" : ", ") + h.name;
+  if (!known) throw ConfigError(d.hosts_where + ": --host " + host + ": no such host in hosts: (" + names + ")");
+  std::vector<const ServiceSpec*> out;
+  for (const ServiceSpec& s : d.services)
+    if (s.host == host) out.push_back(&s);
+  return out;
 }
 
 }  // namespace hcosim::services::runtime

@@ -49,6 +49,16 @@ struct ServiceSpec {
   int cpu = -1;
   std::string where;  // "FILE:LINE:COL" of its on_failure (else of the entry), for check_policy
   int line = 0;       // 1-based line of the entry in the file
+  std::string host;   // the hosts: entry it runs on; "" when the file has no hosts
+};
+
+// One machine of the rig (docs/deployment.md, "Several hosts"): every host
+// reads the same file and `hcosim up FILE --host NAME` starts its services.
+struct Host {
+  std::string name;       // unique, [a-z0-9_]
+  std::string address;    // its IPv4 address on the rig's network, or ""
+  std::string interface;  // or the network interface that has it, or ""
+  std::string where;      // "FILE:LINE:COL" of the entry
 };
 
 // Whether a service only watches the run (kind foxglove, the live bridge):
@@ -81,9 +91,17 @@ struct Deployment {
   double duration_s = 0;       // s of simulated time (lockstep) or wall time; 0 = until stopped
   std::string security;        // DDS Security credentials folder, from the file's folder; "" = off
   std::string security_where;  // "FILE:LINE:COL" of its section, for errors about it
+  std::vector<Host> hosts;     // empty: one host, today's
+  std::string clock_host;      // the host whose hcosim up runs the lockstep clock; "" without hosts
+  std::string hosts_where;     // "FILE:LINE:COL" of 'hosts' (1:1 when absent), for errors about them
   std::vector<ServiceSpec> services;
   std::string services_where;  // "FILE:LINE:COL" of 'services' (1:1 when absent), for errors about them
 };
+
+// The services `hcosim up --host NAME` starts: those placed on that host,
+// in file order. Throws ConfigError naming the file when it has no hosts
+// or no such host.
+std::vector<const ServiceSpec*> services_on(const Deployment& d, const std::string& host);
 
 // Reads and validates a whole deployment file. Throws ConfigError on the
 // first problem, naming FILE:LINE:COL.

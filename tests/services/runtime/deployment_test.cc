@@ -94,10 +94,67 @@ INSTANTIATE_TEST_SUITE_P(
                 ":2:43: ", "'priority' must be a whole number from 0 to 99"},
         BadCase{"cpu", "services:\n  - {name: a, kind: b, rate: 5, cpu: 0.5}\n",
                 ":2:38: ", "'cpu' must be a whole number"},
+        BadCase{"hosts_type", "hosts: 3\n", ":1:8: ", "'hosts' must be a list"},
+        BadCase{"host_key", "hosts:\n  - {name: a, adress: 10.0.0.1}\n", ":2:15: ", "did you mean 'address'?"},
+        BadCase{"host_nowhere", "hosts:\n  - {name: a}\n", ":2:5: ", "needs its address or its interface"},
+        BadCase{"host_both", "hosts:\n  - {name: a, address: 10.0.0.1, interface: eth0}\n",
+                ":2:5: ", "needs its address or its interface"},
+        BadCase{"host_address", "hosts:\n  - {name: a, address: 10.0.0}\n", ":2:24: ", "not an IPv4 address"},
+        BadCase{"host_interface", "hosts:\n  - {name: a, interface: 'eth 0'}\n",
+                ":2:26: ", "not a network interface name"},
+        BadCase{"host_name", "hosts:\n  - {name: Rig, address: 10.0.0.1}\n", ":2:12: ", "host name 'Rig' must be"},
+        BadCase{"host_twice", "hosts:\n  - {name: a, address: 10.0.0.1}\n  - {name: a, address: 10.0.0.2}\n",
+                ":3:12: ", "defined twice (first at"},
+        BadCase{"host_shared_address", "hosts:\n  - {name: a, address: 10.0.0.1}\n  - {name: b, address: 10.0.0.1}\n",
+                ":3:24: ", "is another host's too ("},
+        BadCase{"two_clocks",
+                "hosts:\n  - {name: a, address: 10.0.0.1, clock: on}\n  - {name: b, address: 10.0.0.2, clock: on}\n",
+                ":3:41: ", "runs the lockstep clock already"},
+        BadCase{"unknown_host",
+                "hosts:\n  - {name: a, address: 10.0.0.1}\nservices:\n  - {name: s, kind: b, rate: 5, host: x}\n",
+                ":4:39: ", "no host 'x' in hosts: (a)"},
+        BadCase{"no_host", "hosts:\n  - {name: a, address: 10.0.0.1}\nservices:\n  - {name: s, kind: b, rate: 5}\n",
+                ":4:5: ", "is on no host"},
+        BadCase{"host_without_hosts", "services:\n  - {name: s, kind: b, rate: 5, host: a}\n",
+                ":2:39: ", "the file has no hosts"},
         BadCase{"undefined_object",
                 "scene:\n  objects: []\nservices:\n  - {name: a, kind: rigid, rate: 5, objects: [x]}\n",
                 ":4:47: ", "no object 'x' in the scene"}),
     [](const auto& test) { return std::string(test.param.name); });
+
+// One file for the rig: each host's services, the clock on the first host
+// unless another says clock, and --host naming a host the file lacks.
+TEST(Deployment, HostsPlaceEveryService) {
+  const std::string f = write_file("rig.yaml", R"(hosts:
+  - {name: device, address: 10.1.0.1}
+  - {name: sim, interface: veth1}
+services:
+  - {name: omni, kind: haptic, rate: 1000, host: device}
+  - {name: bodies, kind: rigid, rate: 1000, host: sim}
+  - {name: objects, kind: deformable, rate: 1000, host: sim}
+)");
+  const Deployment d = load_deployment(f);
+  ASSERT_EQ(d.hosts.size(), 2u);
+  EXPECT_EQ(d.hosts[0].address, "10.1.0.1");
+  EXPECT_EQ(d.hosts[1].interface, "veth1");
+  EXPECT_EQ(d.clock_host, "device");
+  std::vector<std::string> sim;
+  for (const ServiceSpec* s : services_on(d, "sim")) sim.push_back(s->name);
+  EXPECT_EQ(sim, (std::vector<std::string>{"bodies", "objects"}));
+  try {
+    services_on(d, "camera");
+    FAIL() << "no error for a host the file lacks";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(f + ":2:3: --host camera: no such host in hosts: (device, sim)", 0), 0u)
+        << e.what();
+  }
+  const std::string g = write_file("rig_clock.yaml", R"(hosts:
+  - {name: device, address: 10.1.0.1}
+  - {name: sim, address: 10.1.0.2, clock: on}
+)");
+  EXPECT_EQ(load_deployment(g).clock_host, "sim");
+  EXPECT_THROW(services_on(load_deployment(write_file("one.yaml", "domain: 1\n")), "sim"), ConfigError);
+}
 
 // The haptic kinds come first unless the entry says otherwise; the
 // device's sources are the objects of the services that name it.
