@@ -118,6 +118,13 @@ std::string find_service(const std::string& kind, const std::string& file, int l
                               "' (known kinds: " + (known.empty() ? "none" : known) + ")");
 }
 
+std::string find_program(const std::string& name, const std::string& what) {
+  std::stringstream path(std::getenv("PATH") ? std::getenv("PATH") : "/usr/bin:/bin");
+  for (std::string d; std::getline(path, d, ':');)
+    if (!d.empty() && access((fs::path(d) / name).c_str(), X_OK) == 0) return (fs::path(d) / name).string();
+  throw std::runtime_error("no " + name + " in PATH: it is " + what);
+}
+
 std::string describe(int status) {
   if (WIFEXITED(status)) return "exit status " + std::to_string(WEXITSTATUS(status));
   if (WIFSIGNALED(status))

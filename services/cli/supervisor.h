@@ -36,6 +36,8 @@ struct Child {
 // build/bin/hcosim_<kind>, searched in $HCOSIM_SERVICE_PATH, then beside
 // this program; a ConfigError at FILE:LINE naming the known kinds if none.
 std::string find_service(const std::string& kind, const std::string& file, int line);
+// `name` in $PATH; throws std::runtime_error saying it is `what` when absent.
+std::string find_program(const std::string& name, const std::string& what);
 
 // "exit status 3", "killed by signal 9 (Killed)".
 std::string describe(int status);

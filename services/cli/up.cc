@@ -78,13 +78,15 @@ int up(const UpOptions& o) {
     s.precision(17);
     r << rate;
     s << d.step_s;
-    return std::vector<std::string>{"--name",       name,
-                                    "--domain",     std::to_string(d.domain),
-                                    "--mode",       runtime::to_string(d.mode),
-                                    "--rate",       r.str(),
-                                    "--step",       s.str(),
-                                    "--deployment", file,
-                                    "--out",        fs::absolute(out).string()};
+    std::vector<std::string> args{"--name",       name,
+                                  "--domain",     std::to_string(d.domain),
+                                  "--mode",       runtime::to_string(d.mode),
+                                  "--rate",       r.str(),
+                                  "--step",       s.str(),
+                                  "--deployment", file,
+                                  "--out",        fs::absolute(out).string()};
+    if (!o.host.empty()) args.insert(args.end(), {"--host", o.host});
+    return args;
   };
   const auto scheduling = [](const runtime::ServiceSpec& s) {
     return std::vector<std::string>{"--priority", std::to_string(s.priority), "--cpu", std::to_string(s.cpu)};
@@ -146,8 +148,29 @@ int up(const UpOptions& o) {
               runtime::to_string(d.mode), children.size(), o.host.empty() ? "" : (" on host " + o.host).c_str(),
               d.duration_s > 0 ? "" : ", until Ctrl-C",
               security.on() ? (", DDS Security on (" + d.security + ")").c_str() : "");
+  // The host of a discovery server runs it beside its services, until the
+  // end; no one waits for it. fast-discovery-server itself, not `fastdds
+  // discovery`, whose Python wrapper leaves the server running when stopped.
+  const runtime::Network network = runtime::network_of(d, o.host);
+  if (network.discovery == "server" && o.host == d.network.server) {
+    Child server{"discovery",
+                 find_program("fast-discovery-server", "the Discovery Server (Debian package fastdds-tools)"),
+                 {"-i", "0", "-l", network.server, "-p", std::to_string(network.server_port)}};
+    server.observer = true;
+    children.insert(children.begin(), std::move(server));
+  }
+  // The watcher hears the whole rig: with --host, every host's services
+  // join and run before this host's duration counts, and one never heard
+  // (its host down, or discovery that cannot cross the network) is named.
   std::vector<std::string> names;
-  for (const auto& c : children) names.push_back(c.name);
+  if (o.host.empty()) {
+    for (const auto& c : children)
+      if (c.name != "discovery") names.push_back(c.name);
+  } else {
+    for (const auto& s : d.services)
+      if (s.unneeded.empty()) names.push_back(s.name);
+    if (d.mode == runtime::Mode::kLockstep) names.push_back("clock");
+  }
   Watcher watcher(names, d.domain, isatty(STDOUT_FILENO));
   Discovered discovered(watcher);
   // up's participant exists before the services, so that the recorder's
@@ -155,7 +178,7 @@ int up(const UpOptions& o) {
   // before the shared-memory clean at the end: a dead process's ports that
   // it holds open would stay behind.
   auto participant = std::make_unique<runtime::Participant>(d.domain, "hcosim_up", runtime::default_qos_file(),
-                                                            &discovered, false, security);
+                                                            &discovered, false, security, network);
   // In lockstep the recorder's readers are reliable: the services wait for
   // them too, so a recording holds every sample.
   participant->set_lockstep(d.mode == runtime::Mode::kLockstep);

@@ -109,6 +109,36 @@ void parse_hosts(const Config& root, Deployment& d) {
   if (d.clock_host.empty()) d.clock_host = d.hosts.front().name;
 }
 
+// The network section: it needs hosts, peers need every host's address,
+// a discovery server a host with an address.
+void parse_network(const Config& root, Deployment& d) {
+  if (!root.node()["network"].IsMap()) root.fail("network", "'network' must be a map (docs/deployment.md)");
+  const Config n = root.map("network");
+  n.allow_only({"discovery", "server", "server_port", "transport", "socket_buffer_kib"});
+  if (d.hosts.empty()) root.fail("network", "'network' is for a rig of several hosts: the file has no hosts: list");
+  NetworkSpec& net = d.network;
+  net.defined = true;
+  net.where = root.where("network");
+  net.discovery = n.text("discovery", net.discovery, {"multicast", "peers", "server"});
+  net.udp_only = n.text("transport", "shm_udp", {"shm_udp", "udp"}) == "udp";
+  net.socket_buffer_kib = n.whole("socket_buffer_kib", net.socket_buffer_kib, 0, 1 << 20);
+  net.server_port = n.whole("server_port", net.server_port, 1024, 65535);
+  if (n.has("server") && net.discovery != "server") n.fail("server", "'server' goes with discovery: server");
+  if (net.discovery == "server") {
+    net.server = n.string("server", d.clock_host);
+    const auto it = std::find_if(d.hosts.begin(), d.hosts.end(), [&](const Host& h) { return h.name == net.server; });
+    if (it == d.hosts.end()) n.fail("server", "no host '" + net.server + "' in hosts:");
+    if (it->address.empty())
+      n.fail(n.has("server") ? "server" : "discovery",
+             "the discovery server's host '" + net.server + "' needs an address (" + it->where + ")");
+  }
+  if (net.discovery == "peers")
+    for (const Host& h : d.hosts)
+      if (h.address.empty())
+        throw ConfigError(h.where + ": discovery: peers (" + n.where("discovery") + ") needs every host's address; '" +
+                          h.name + "' gives an interface");
+}
+
 // Every service is on one of the hosts when the file has hosts, and names
 // none when it has not.
 void check_placement(const Config& root, const Deployment& d) {
@@ -284,7 +314,7 @@ std::vector<ForceSource> force_sources(const Deployment& d, const std::string& d
 
 Deployment load_deployment(const std::string& path) {
   const Config root = Config::load(path, "a deployment");
-  root.allow_only({"domain", "mode", "step", "duration", "security", "hosts", "scene", "services"});
+  root.allow_only({"domain", "mode", "step", "duration", "security", "hosts", "network", "scene", "services"});
 
   Deployment d;
   d.file = path;
@@ -309,6 +339,7 @@ Deployment load_deployment(const std::string& path) {
     d.hosts_where = root.where("hosts");
     parse_hosts(root, d);
   }
+  if (root.has("network")) parse_network(root, d);
   if (root.has("scene")) d.scene = parse_scene(Config(path, root.node()["scene"]));
   if (root.has("services")) {
     const YAML::Node n = root.node()["services"];

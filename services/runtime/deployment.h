@@ -82,6 +82,19 @@ struct Scene {
   std::vector<YAML::Node> objects;  // maps with name and kind
 };
 
+// How the hosts find each other and what carries their samples
+// (docs/deployment.md, "The network"); it applies to the processes of
+// `hcosim up --host` when the file has the section.
+struct NetworkSpec {
+  bool defined = false;                 // the file has a network section
+  std::string discovery = "multicast";  // multicast, peers (every host's address), or server
+  std::string server;                   // discovery server: the host that runs it (default: the clock's)
+  int server_port = 11811;              // its UDP port
+  bool udp_only = false;                // transport udp: no shared memory, even between one host's processes
+  int socket_buffer_kib = 4096;         // UDP sockets' send and receive buffers, KiB (0: the system's)
+  std::string where;                    // "FILE:LINE:COL" of the section
+};
+
 struct Deployment {
   std::string file;
   Scene scene;
@@ -94,6 +107,7 @@ struct Deployment {
   std::vector<Host> hosts;     // empty: one host, today's
   std::string clock_host;      // the host whose hcosim up runs the lockstep clock; "" without hosts
   std::string hosts_where;     // "FILE:LINE:COL" of 'hosts' (1:1 when absent), for errors about them
+  NetworkSpec network;
   std::vector<ServiceSpec> services;
   std::string services_where;  // "FILE:LINE:COL" of 'services' (1:1 when absent), for errors about them
 };

@@ -17,7 +17,8 @@ std::string default_qos_file() {
 }
 
 Participant::Participant(int domain, const std::string& name, const std::string& qos_file,
-                         DomainParticipantListener* listener, bool lockstep, const Security& security)
+                         DomainParticipantListener* listener, bool lockstep, const Security& security,
+                         const Network& network)
     : lockstep_(lockstep) {
   if (domain < 0 || domain > kMaxDomain)
     throw std::runtime_error("domain id " + std::to_string(domain) + " is outside 0.." + std::to_string(kMaxDomain));
@@ -41,6 +42,7 @@ Participant::Participant(int domain, const std::string& name, const std::string&
     qos.wire_protocol().participant_id = int32_t(v);
   }
   add_security(security, qos);
+  apply(network, qos);
   // Discovery only: a participant listener enabled for data_on_readers would
   // take every reader's data_available away from the reader's own listener.
   participant_ = factory->create_participant(domain, qos, listener, StatusMask::none());

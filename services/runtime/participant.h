@@ -11,6 +11,7 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 
+#include "services/runtime/network.h"
 #include "services/runtime/security.h"
 #include "services/runtime/topics.h"
 
@@ -35,9 +36,10 @@ class Participant {
   // status: readers' own listeners hear their data, Reader::on_arrival).
   // `lockstep`: see set_lockstep(). `security`, when on, joins with those
   // credentials: only participants of the same CA and permissions match.
+  // `network`: how its host reaches a rig's other hosts (network.h).
   Participant(int domain, const std::string& name, const std::string& qos_file = default_qos_file(),
               eprosima::fastdds::dds::DomainParticipantListener* listener = nullptr, bool lockstep = false,
-              const Security& security = {});
+              const Security& security = {}, const Network& network = {});
   ~Participant();
   Participant(const Participant&) = delete;
   Participant& operator=(const Participant&) = delete;

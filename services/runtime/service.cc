@@ -109,6 +109,8 @@ int service_main(const char* program, const char* what, int argc, char** argv,
   app.add_option("--qos", o.qos_file, "Fast DDS XML profiles (default: the tree's deploy/qos.xml)")
       ->option_text("FILE");
   app.add_option("--deployment", o.deployment, "deployment file holding this service's params")->option_text("FILE");
+  app.add_option("--host", o.host, "its host in the deployment's hosts: the network it joins (docs/deployment.md)")
+      ->option_text("NAME");
   app.add_option("--out", o.out, "folder for the files the service writes")->option_text("DIR");
   app.add_option("--priority", o.scheduling.priority, "SCHED_FIFO priority 1..99 (0: normal scheduling)")
       ->option_text("P")
@@ -127,7 +129,7 @@ Service::Service(Options options)
       deployment_(options_.deployment.empty() ? Deployment{} : load_deployment(options_.deployment)),
       scheduling_(schedule(options_)),
       participant_(options_.domain, options_.name, options_.qos_file, nullptr, options_.mode == Mode::kLockstep,
-                   Security{deployment_.security, options_.name}),
+                   Security{deployment_.security, options_.name}, network_of(deployment_, options_.host)),
       params_(params_of(deployment_, options_.name)),
       status_(participant_) {
   install_stop_handlers();

@@ -28,6 +28,7 @@ struct Options {
   double duration_s = 0;        // --duration: s; 0 = until stopped (realtime only)
   std::string qos_file;         // --qos (default: default_qos_file())
   std::string deployment;       // --deployment: file holding this service's params
+  std::string host;             // --host: its host in the deployment's hosts ("": one machine runs them all)
   std::string out = "out";      // --out: folder for the files a service writes (videos, plots)
   Scheduling scheduling;        // --priority (SCHED_FIFO 1..99, 0 normal), --cpu: real time only
 };

@@ -1,0 +1,143 @@
+# A rig of two hosts made of Linux network namespaces (docs/deployment.md,
+# "The network"): each host is a namespace with its own address on a
+# bridge and its own /dev/shm, so that samples cross between them over UDP
+# only, and runs `hcosim up FILE --host NAME`: the device on `device`, the
+# cube and the sheet on `sim`. Everything this test makes (namespaces,
+# veth pairs, the bridge, the 10.x addresses inside them) it removes.
+# 1. Multicast discovery (the default): the device feels the sheet served
+#    from the other host, and the samples crossed the bridge.
+# 2. With multicast blocked on the bridge: multicast discovery finds no one
+#    (the device's up names the other host's services it never heard),
+#    while initial peers from hosts: and a Fast DDS Discovery Server (run
+#    by the server host's up, and gone after it) both connect the hosts.
+# 3. Lockstep with the clock on `sim`, over peers: the run recorded on
+#    `device` exports the same states, forces and meshes, bit for bit from
+#    step 200 (see integration.hosts), as the same file run on one host.
+# Skipped (status 77) where namespaces cannot be made (not root, no ip).
+source "$(dirname "$0")/lib.sh"
+tag=$((DOMAIN % 1000))
+br=hcbr$tag
+net=10.$((100 + DOMAIN % 100)).0
+ns_of() { echo "hc${tag}$1"; }
+# What this test makes, with what runs inside; also a killed run's left-overs.
+net_down() {
+  for h in device sim probe; do
+    for p in $(ip netns pids "$(ns_of $h)" 2>/dev/null); do kill -KILL "$p" 2>/dev/null; done
+    ip netns del "$(ns_of $h)" 2>/dev/null
+  done
+  ip link del "$br" 2>/dev/null
+}
+trap 'net_down; cleanup' EXIT
+if [ "$(id -u)" != 0 ] || ! command -v ip >/dev/null || ! command -v bridge >/dev/null ||
+  ! ip netns add "$(ns_of probe)" 2>/dev/null; then
+  echo "network_test: SKIPPED: cannot make network namespaces here (needs root and iproute2's ip and bridge)"
+  exit 77
+fi
+net_down
+ip link add "$br" type bridge && ip link set "$br" up || fail "cannot make bridge $br"
+i=0
+for h in device sim; do
+  i=$((i + 1))
+  ns=$(ns_of $h)
+  ip netns add "$ns" && ip link add "$ns" type veth peer name eth0 netns "$ns" &&
+    ip link set "$ns" master "$br" up && ip netns exec "$ns" ip addr add "$net.$i/24" dev eth0 &&
+    ip netns exec "$ns" ip link set eth0 up && ip netns exec "$ns" ip link set lo up || fail "cannot make host $h"
+done
+# on_host HOST COMMAND...: COMMAND in HOST's namespace with a /dev/shm of its own.
+on_host() {
+  local h=$1
+  shift
+  ip netns exec "$(ns_of "$h")" sh -c 'mount -t tmpfs tmpfs /dev/shm && exec "$@"' sh "$@"
+}
+# multicast on|off: whether the bridge floods multicast between the hosts.
+multicast() { for h in device sim; do bridge link set dev "$(ns_of $h)" mcast_flood "$1" || fail "bridge link set"; done; }
+cat >"$WORK/tour.yaml" <<'YAML'
+start: [0, 0, 0.05]
+actions:
+  - move_to: {to: [0.03, 0, 0.024], speed: 0.05}
+  - press: {depth: 0.008, speed: 0.01}
+  - hold: {duration: 1}
+  - release: {speed: 0.02}
+  - hold: {duration: 20}
+YAML
+# rig FILE DISCOVERY MODE DURATION: the two hosts' deployment
+rig() {
+  deployment "$1" <<YAML
+mode: $3
+duration: $4
+network: {discovery: $2}
+hosts:
+  - {name: device, address: $net.1}
+  - {name: sim, address: $net.2, clock: on}
+scene:
+  objects:
+    - {name: cube, kind: rigid, shape: cube, size: 0.01, mass: 0.05, centre: [-0.03, 0, 0.01]}
+    - {name: sheet, kind: deformable, model: sheet, centre: [0.03, 0, 0.02], size: 0.03}
+services:
+  - {name: omni, kind: haptic, rate: 1000, host: device, params: {script: tour.yaml, centre: [0, 0, 0.02], report: omni.json}}
+  - {name: bodies, kind: rigid, rate: 1000, host: sim}
+  - {name: objects, kind: deformable, rate: 1000, host: sim}
+YAML
+}
+# split FILE RUN SECONDS [ARGS...]: both hosts' ups of FILE, outputs in
+# $WORK/RUN_*, each limited to SECONDS; the device's up given ARGS. The
+# sim host's up must succeed unless SIM_MAY_FAIL is set.
+split() {
+  local file=$1 run=$2 seconds=$3
+  shift 3
+  rm -f "$WORK/omni.json"
+  on_host sim timeout "$seconds" "$BIN/hcosim" up "$WORK/$file" --host sim --out "$WORK/${run}_sim" \
+    >"$WORK/${run}_sim.log" 2>&1 &
+  local sim=$!
+  on_host device timeout "$seconds" "$BIN/hcosim" up "$WORK/$file" --host device --out "$WORK/${run}_device" "$@" \
+    >"$WORK/${run}_device.log" 2>&1
+  local code=$?
+  wait $sim || [ "${SIM_MAY_FAIL:-}" ] || fail "$run: up --host sim exited $?"
+  return $code
+}
+felt() { jq -r .peak_force_n "$WORK/omni.json"; }
+crossed() { ip -s link show "$(ns_of device)" | awk '/RX:/ { getline; print $2 }'; }
+
+# 1. Multicast.
+rig multicast.yaml multicast realtime 4
+before=$(crossed)
+split multicast.yaml mc 60 || fail "multicast: up --host device exited $?"
+packets=$(($(crossed) - before))
+awk -v p="$(felt)" 'BEGIN { exit !(p > 0.02) }' || fail "multicast: the device felt $(felt) N of the sheet on the other host"
+[ "$packets" -gt 5000 ] || fail "only $packets packets crossed the bridge from the device's host"
+echo "network_test: multicast: the device felt $(felt) N from the other host; $packets packets crossed the bridge from it"
+
+# 2. Multicast blocked.
+multicast off
+SIM_MAY_FAIL=1 split multicast.yaml blocked 13
+grep -q "still no status from: bodies, objects" "$WORK/blocked_device.log" ||
+  fail "multicast blocked: the device's up did not name what it never heard: $(cat "$WORK/blocked_device.log")"
+awk -v p="$(felt)" 'BEGIN { exit !(p == 0) }' || fail "multicast blocked, yet the device felt $(felt) N"
+for mode in peers server; do
+  rig $mode.yaml $mode realtime 4
+  split $mode.yaml $mode 60 || fail "$mode: up --host device exited $?"
+  awk -v p="$(felt)" 'BEGIN { exit !(p > 0.02) }' || fail "$mode: the device felt $(felt) N of the sheet"
+  echo "network_test: $mode with multicast blocked: the device felt $(felt) N from the other host"
+done
+grep -q "started discovery" "$WORK/server_sim.log" || fail "the server host's up did not start the Discovery Server"
+[ -z "$(ip netns pids "$(ns_of sim)")" ] || fail "left running on host sim: $(ip netns pids "$(ns_of sim)" | xargs ps -o args= -p)"
+
+# 3. Lockstep over peers, against one host.
+rig lockstep.yaml peers lockstep 2
+split lockstep.yaml ls 120 --record "$WORK/split.rec" || fail "lockstep: up --host device exited $?"
+grep -q "lockstep run complete (the clock runs on another host)" "$WORK/ls_device.log" ||
+  fail "lockstep: the device's host: $(tail -n 3 "$WORK/ls_device.log")"
+on_host device "$BIN/hcosim" up "$WORK/lockstep.yaml" --record "$WORK/one.rec" --out "$WORK/one" >"$WORK/one.log" 2>&1 ||
+  fail "lockstep on one host exited $?"
+for t in HapticState ForceFeedback DeformedMesh; do
+  for run in split one; do
+    "$BIN/hcosim" export "$WORK/$run.rec" --topic $t 2>/dev/null | grep -vE '"step":(1?[0-9]?[0-9]),' \
+      >"$WORK/$t.$run.jsonl" || fail "export $t of $run: nothing from step 200 on"
+  done
+  cmp -s "$WORK/$t.split.jsonl" "$WORK/$t.one.jsonl" ||
+    fail "lockstep: $t differs between two namespace hosts and one, from line" \
+      "$(cmp "$WORK/$t.split.jsonl" "$WORK/$t.one.jsonl" | awk '{ print $NF }')"
+done
+grep -q '"in_contact":true' "$WORK/ForceFeedback.one.jsonl" || fail "the lockstep press never reached the sheet"
+echo "network_test: lockstep over peers: $(wc -l <"$WORK/DeformedMesh.one.jsonl") meshes and $(wc -l <"$WORK/ForceFeedback.one.jsonl") forces identical to one host's"
+echo "network_test: ok"
