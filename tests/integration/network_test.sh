@@ -80,16 +80,16 @@ services:
 YAML
 }
 # split FILE RUN SECONDS [ARGS...]: both hosts' ups of FILE, outputs in
-# $WORK/RUN_*, each limited to SECONDS; the device's up given ARGS. The
+# $WORK/RUN_*, each limited to SECONDS (limit's scaling); the device's up given ARGS. The
 # sim host's up must succeed unless SIM_MAY_FAIL is set.
 split() {
   local file=$1 run=$2 seconds=$3
   shift 3
   rm -f "$WORK/omni.json"
-  on_host sim timeout "$seconds" "$BIN/hcosim" up "$WORK/$file" --host sim --out "$WORK/${run}_sim" \
+  on_host sim timeout $((seconds * SLOWDOWN)) "$BIN/hcosim" up "$WORK/$file" --host sim --out "$WORK/${run}_sim" \
     >"$WORK/${run}_sim.log" 2>&1 &
   local sim=$!
-  on_host device timeout "$seconds" "$BIN/hcosim" up "$WORK/$file" --host device --out "$WORK/${run}_device" "$@" \
+  on_host device timeout $((seconds * SLOWDOWN)) "$BIN/hcosim" up "$WORK/$file" --host device --out "$WORK/${run}_device" "$@" \
     >"$WORK/${run}_device.log" 2>&1
   local code=$?
   wait $sim || [ "${SIM_MAY_FAIL:-}" ] || fail "$run: up --host sim exited $?"
