@@ -1,11 +1,12 @@
 # A rig of two hosts made of Linux network namespaces (docs/deployment.md,
 # "The network"): each host is a namespace with its own address on a
-# bridge and its own /dev/shm, so that samples cross between them over UDP
+# bridge and a /dev/shm of its own, so that samples cross between them over UDP
 # only, and runs `hcosim up FILE --host NAME`: the device on `device`, the
 # cube and the sheet on `sim`. Everything this test makes (namespaces,
 # veth pairs, the bridge, the 10.x addresses inside them) it removes.
 # 1. Multicast discovery (the default): the device feels the sheet served
-#    from the other host, and the samples crossed the bridge.
+#    from the other host, the samples crossed the bridge, and `hcosim
+#    topics` on the device's host shows each writer's and reader's host.
 # 2. With multicast blocked on the bridge: multicast discovery finds no one
 #    (the device's up names the other host's services it never heard),
 #    while initial peers from hosts: and a Fast DDS Discovery Server (run
@@ -43,11 +44,13 @@ for h in device sim; do
     ip link set "$ns" master "$br" up && ip netns exec "$ns" ip addr add "$net.$i/24" dev eth0 &&
     ip netns exec "$ns" ip link set eth0 up && ip netns exec "$ns" ip link set lo up || fail "cannot make host $h"
 done
-# on_host HOST COMMAND...: COMMAND in HOST's namespace with a /dev/shm of its own.
+# on_host HOST COMMAND...: COMMAND in HOST's namespace, with HOST's /dev/shm
+# (a folder of its own, shared by every process of that host only).
 on_host() {
   local h=$1
   shift
-  ip netns exec "$(ns_of "$h")" sh -c 'mount -t tmpfs tmpfs /dev/shm && exec "$@"' sh "$@"
+  mkdir -p "$WORK/shm_$h"
+  ip netns exec "$(ns_of "$h")" sh -c 'mount --bind "$0" /dev/shm && exec "$@"' "$WORK/shm_$h" "$@"
 }
 # multicast on|off: whether the bridge floods multicast between the hosts.
 multicast() { for h in device sim; do bridge link set dev "$(ns_of $h)" mcast_flood "$1" || fail "bridge link set"; done; }
@@ -98,10 +101,18 @@ split() {
 felt() { jq -r .peak_force_n "$WORK/omni.json"; }
 crossed() { ip -s link show "$(ns_of device)" | awk '/RX:/ { getline; print $2 }'; }
 
-# 1. Multicast.
-rig multicast.yaml multicast realtime 4
+# 1. Multicast; hcosim topics on the device's host meanwhile.
+rig multicast.yaml multicast realtime 6
 before=$(crossed)
+(sleep 1 && on_host device "$BIN/hcosim" topics --domain "$DOMAIN" --wait 3 --deployment "$WORK/multicast.yaml" \
+  --host device >"$WORK/topics.log" 2>&1) &
+topics=$!
 split multicast.yaml mc 60 || fail "multicast: up --host device exited $?"
+wait $topics || fail "hcosim topics exited $?: $(cat "$WORK/topics.log")"
+for line in "HapticState +writer +omni +$net.1 +device" "HapticState +reader +bodies +$net.2 +sim" \
+  "ForceFeedback +writer +objects +$net.2 +sim" "ForceFeedback +reader +omni +$net.1 +device"; do
+  grep -qE "^$line$" "$WORK/topics.log" || fail "hcosim topics does not show '$line': $(cat "$WORK/topics.log")"
+done
 packets=$(($(crossed) - before))
 awk -v p="$(felt)" 'BEGIN { exit !(p > 0.02) }' || fail "multicast: the device felt $(felt) N of the sheet on the other host"
 [ "$packets" -gt 5000 ] || fail "only $packets packets crossed the bridge from the device's host"

@@ -7,10 +7,10 @@
 #include <fstream>
 #include <sstream>
 
-#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <gtest/gtest.h>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 
 #include "services/runtime/participant.h"
 
