@@ -111,11 +111,12 @@ int run(const Options& options) {
   Window jitter_us(1 << 16), error_n(1 << 12);
   Eigen::Vector3d applied = Eigen::Vector3d::Zero();
   std::uint64_t seq = 0;
-  std::uint64_t in_tick = 0, with_sources = 0;  // ticks every expected source answered in, of those expecting one
-  std::uint64_t modelled = 0;                   // source-ticks rendered from a local model (the answer was late)
-  std::uint64_t covered = 0;                    // source-ticks whose free-space model needed no answer
-  double peak = 0;                              // N, largest force rendered
-  std::map<std::string, std::uint64_t> newest;  // per source, the newest state answered
+  std::uint64_t in_tick = 0, with_sources = 0;       // ticks every expected source answered in, of those expecting one
+  std::uint64_t modelled = 0;                        // source-ticks rendered from a local model (the answer was late)
+  std::uint64_t covered = 0;                         // source-ticks whose free-space model needed no answer
+  double peak = 0;                                   // N, largest force rendered
+  std::map<std::string, std::uint64_t> newest;       // per source, the newest state answered
+  std::map<std::string, std::int64_t> silent_since;  // wall ns each silent source fell silent at
   // Sources that answered this tick's state, and those it waits for
   // (reused: no allocation per tick; names fit in a short string).
   std::vector<std::string> answered, expected;
@@ -204,7 +205,22 @@ int run(const Options& options) {
     }
     const Eigen::Vector3d env = sum.total(now, f.position);
     for (const auto& [from, last] : newest) {
-      if (!sum.has(from)) continue;
+      // A source that falls silent (its host gone) drops out with its force,
+      // which is zero, not its last; said when it does and when it is back.
+      const bool live = sum.has(from);
+      const auto silent = silent_since.find(from);
+      if (!live && silent == silent_since.end()) {
+        silent_since.emplace(from, wall_ns());
+        std::printf("%s: source '%s' fell silent (no answer for %.3g s): its force is zero until it answers again\n",
+                    name.c_str(), from.c_str(), config.source_timeout);
+        std::fflush(stdout);
+      } else if (live && silent != silent_since.end()) {
+        std::printf("%s: source '%s' answers again after %.2f s silent (wall time %.3f s)\n", name.c_str(),
+                    from.c_str(), (wall_ns() - silent->second) * 1e-9, wall_ns() * 1e-9);
+        std::fflush(stdout);
+        silent_since.erase(silent);
+      }
+      if (!live) continue;
       rendered.put(from, seq, sum.force_of(from));
       if (last != seq && (gauss_seidel || has(expected, from))) ++modelled;
     }

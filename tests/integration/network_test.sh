@@ -11,7 +11,11 @@
 #    (the device's up names the other host's services it never heard),
 #    while initial peers from hosts: and a Fast DDS Discovery Server (run
 #    by the server host's up, and gone after it) both connect the hosts.
-# 3. Lockstep with the clock on `sim`, over peers: the run recorded on
+# 3. The sim host lost at once (every process in its namespace killed) and
+#    started again: the device's up runs on, says its sources fell silent
+#    (their force zero), and they answer again within 5 s of the host's up
+#    coming back.
+# 4. Lockstep with the clock on `sim`, over peers: the run recorded on
 #    `device` exports the same states, forces and meshes, bit for bit from
 #    step 200 (see integration.hosts), as the same file run on one host.
 # Skipped (status 77) where namespaces cannot be made (not root, no ip).
@@ -133,7 +137,39 @@ done
 grep -q "started discovery" "$WORK/server_sim.log" || fail "the server host's up did not start the Discovery Server"
 [ -z "$(ip netns pids "$(ns_of sim)")" ] || fail "left running on host sim: $(ip netns pids "$(ns_of sim)" | xargs ps -o args= -p)"
 
-# 3. Lockstep over peers, against one host.
+# 3. The sim host lost (every process in its namespace killed at once, as
+# in a power cut) and started again, over peers: the device's up runs on,
+# its sources fall silent and their force is zero, and they answer again
+# within 5 s of the sim host's up coming back.
+rig loss.yaml peers realtime 14
+rm -f "$WORK/omni.json"
+on_host sim "$BIN/hcosim" up "$WORK/loss.yaml" --host sim --out "$WORK/loss_sim" >"$WORK/loss_sim.log" 2>&1 &
+on_host device timeout $((60 * SLOWDOWN)) "$BIN/hcosim" up "$WORK/loss.yaml" --host device --out "$WORK/loss_device" \
+  >"$WORK/loss_device.log" 2>&1 &
+device=$!
+for _ in $(seq $((200 * SLOWDOWN))); do grep -q "every service running" "$WORK/loss_device.log" && break; sleep 0.1; done
+grep -q "every service running" "$WORK/loss_device.log" || fail "the rig never ran: $(cat "$WORK/loss_device.log")"
+sleep 3
+for p in $(ip netns pids "$(ns_of sim)"); do kill -KILL "$p"; done
+omni_log=$WORK/loss_device/logs/omni.log
+for _ in $(seq 50); do grep -q "source 'sheet' fell silent" "$omni_log" && break; sleep 0.1; done
+grep -q "source 'sheet' fell silent" "$omni_log" || fail "the device did not say its source fell silent: $(cat "$omni_log")"
+sleep 1
+back=$(date +%s.%N)
+on_host sim "$BIN/hcosim" up "$WORK/loss.yaml" --host sim --duration 6 --out "$WORK/loss_sim2" \
+  >"$WORK/loss_sim2.log" 2>&1 &
+sim2=$!
+wait $device || fail "the device's up did not run on through the loss of the other host: exit $?"
+wait $sim2 || fail "the sim host's second up exited $?"
+again=$(sed -nE "s/^omni: source 'sheet' answers again after [0-9.]+ s silent \(wall time ([0-9.]+) s\)$/\1/p" "$omni_log" |
+  awk -v b="$back" '$1 > b' | head -n 1)
+[ -n "$again" ] || fail "the sheet never answered again after its host came back: $(tail -n 5 "$omni_log")"
+resumed=$(awk -v a="$again" -v b="$back" 'BEGIN { printf "%.2f", a - b }')
+awk -v r="$resumed" -v s="$SLOWDOWN" 'BEGIN { exit !(r <= 5 * s) }' ||
+  fail "the sheet answered again $resumed s after its host's up came back (bound 5 s)"
+echo "network_test: the sim host killed and started again: the sheet answered again $resumed s after its up came back"
+
+# 4. Lockstep over peers, against one host.
 rig lockstep.yaml peers lockstep 2
 split lockstep.yaml ls 120 --record "$WORK/split.rec" || fail "lockstep: up --host device exited $?"
 grep -q "lockstep run complete (the clock runs on another host)" "$WORK/ls_device.log" ||
