@@ -33,9 +33,18 @@ net_down() {
   ip link del "$br" 2>/dev/null
 }
 trap 'net_down; cleanup' EXIT
-if [ "$(id -u)" != 0 ] || ! command -v ip >/dev/null || ! command -v bridge >/dev/null ||
-  ! ip netns add "$(ns_of probe)" 2>/dev/null; then
-  echo "network_test: SKIPPED: cannot make network namespaces here (needs root and iproute2's ip and bridge)"
+# Whether this machine lets the test make its hosts: a namespace, a veth
+# pair and a bridge, and a folder mounted as a namespace's /dev/shm.
+can_make_hosts() {
+  [ "$(id -u)" = 0 ] && command -v ip >/dev/null && command -v bridge >/dev/null &&
+    ip netns add "$(ns_of probe)" && ip link add "$br" type bridge &&
+    ip link add "$(ns_of probe)" type veth peer name eth0 netns "$(ns_of probe)" &&
+    mkdir -p "$WORK/shm_probe" &&
+    ip netns exec "$(ns_of probe)" sh -c 'mount --bind "$0" /dev/shm' "$WORK/shm_probe"
+}
+if ! can_make_hosts >"$WORK/can.log" 2>&1; then
+  echo "network_test: SKIPPED: cannot make network namespaces here (needs root, iproute2's ip and bridge," \
+    "veth and bridge links, and mounts): $(tail -n 1 "$WORK/can.log")"
   exit 77
 fi
 net_down
