@@ -62,7 +62,7 @@ ServiceSpec parse_service(const Config& c) {
 }
 
 // The hosts: list. A host has a name and its address or interface, not
-// both; one host (the first unless one says `clock: true`) runs the
+// both; one host (the first unless one says `clock: on`) runs the
 // lockstep clock. Two hosts cannot share an address.
 void parse_hosts(const Config& root, Deployment& d) {
   const YAML::Node n = root.node()["hosts"];
@@ -118,7 +118,6 @@ void parse_network(const Config& root, Deployment& d) {
   if (d.hosts.empty()) root.fail("network", "'network' is for a rig of several hosts: the file has no hosts: list");
   NetworkSpec& net = d.network;
   net.defined = true;
-  net.where = root.where("network");
   net.discovery = n.text("discovery", net.discovery, {"multicast", "peers", "server"});
   net.udp_only = n.text("transport", "shm_udp", {"shm_udp", "udp"}) == "udp";
   net.socket_buffer_kib = n.whole("socket_buffer_kib", net.socket_buffer_kib, 0, 1 << 20);
@@ -139,6 +138,17 @@ void parse_network(const Config& root, Deployment& d) {
                           h.name + "' gives an interface");
 }
 
+// The hosts' names, for errors: "a, b".
+std::string host_names(const Deployment& d) {
+  std::string names;
+  for (const Host& h : d.hosts) names += (names.empty() ? "" : ", ") + h.name;
+  return names;
+}
+
+bool has_host(const Deployment& d, const std::string& name) {
+  return std::any_of(d.hosts.begin(), d.hosts.end(), [&](const Host& h) { return h.name == name; });
+}
+
 // Every service is on one of the hosts when the file has hosts, and names
 // none when it has not.
 void check_placement(const Config& root, const Deployment& d) {
@@ -154,10 +164,7 @@ void check_placement(const Config& root, const Deployment& d) {
     }
     if (!entry.has("host"))
       entry.fail("", "service '" + s.name + "' is on no host: say host: NAME, one of the hosts at " + d.hosts_where);
-    bool known = false;
-    std::string names;
-    for (const Host& h : d.hosts) known = known || h.name == s.host, names += (names.empty() ? "" : ", ") + h.name;
-    if (!known) entry.fail("host", "no host '" + s.host + "' in hosts: (" + names + ")");
+    if (!has_host(d, s.host)) entry.fail("host", "no host '" + s.host + "' in hosts: (" + host_names(d) + ")");
   }
 }
 
@@ -364,10 +371,8 @@ Deployment load_deployment(const std::string& path) {
 std::vector<const ServiceSpec*> services_on(const Deployment& d, const std::string& host) {
   if (d.hosts.empty())
     throw ConfigError(d.hosts_where + ": --host " + host + ": the deployment has no hosts: list (docs/deployment.md)");
-  std::string names;
-  bool known = false;
-  for (const Host& h : d.hosts) known = known || h.name == host, names += (names.empty() ? "" : ", ") + h.name;
-  if (!known) throw ConfigError(d.hosts_where + ": --host " + host + ": no such host in hosts: (" + names + ")");
+  if (!has_host(d, host))
+    throw ConfigError(d.hosts_where + ": --host " + host + ": no such host in hosts: (" + host_names(d) + ")");
   std::vector<const ServiceSpec*> out;
   for (const ServiceSpec& s : d.services)
     if (s.host == host) out.push_back(&s);

@@ -92,7 +92,6 @@ struct NetworkSpec {
   int server_port = 11811;              // its UDP port
   bool udp_only = false;                // transport udp: no shared memory, even between one host's processes
   int socket_buffer_kib = 4096;         // UDP sockets' send and receive buffers, KiB (0: the system's)
-  std::string where;                    // "FILE:LINE:COL" of the section
 };
 
 struct Deployment {

@@ -80,7 +80,7 @@ serving() {
 # 1. Real time: the two clients while the deployment runs.
 start up "$BIN/hcosim" up "$WORK/realtime.yaml" --out "$WORK/rt"
 url=$(serving rt up) || exit 1
-node "$clients/check_bridge.mjs" "$url" 8 sheet cam --stall >"$WORK/stall.log" 2>&1 &
+node "$clients/check_bridge.mjs" "$url" 10 sheet cam --stall >"$WORK/stall.log" 2>&1 &
 stall=$!
 limit 30 node "$clients/check_bridge.mjs" "$url" 5 sheet cam >"$WORK/client.log" 2>&1 ||
   fail "the client: $(cat "$WORK/client.log")"
