@@ -164,8 +164,7 @@ int up(const UpOptions& o) {
   // (its host down, or discovery that cannot cross the network) is named.
   std::vector<std::string> names;
   if (o.host.empty()) {
-    for (const auto& c : children)
-      if (c.name != "discovery") names.push_back(c.name);
+    for (const auto& c : children) names.push_back(c.name);
   } else {
     for (const auto& s : d.services)
       if (s.unneeded.empty()) names.push_back(s.name);

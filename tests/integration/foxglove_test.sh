@@ -23,15 +23,7 @@ if [ ! -d "$clients/node_modules/@foxglove/ws-protocol" ] || ! command -v node >
   echo "foxglove_test: SKIPPED: no node or no npm modules in $clients (deploy/setup.sh installs them; npm ci there)"
   exit 77
 fi
-cat >"$WORK/tour.yaml" <<'YAML'
-start: [0, 0, 0.05]
-actions:
-  - move_to: {to: [0.03, 0, 0.024], speed: 0.05}
-  - press: {depth: 0.008, speed: 0.01}
-  - hold: {duration: 1}
-  - release: {speed: 0.02}
-  - hold: {duration: 20}
-YAML
+sheet_tour 1
 scene='scene:
   marker: {family: tag36h11, id: 0, size: 0.03}
   camera: {source: synthetic, width: 320, height: 240, sheet: 8}
@@ -107,7 +99,7 @@ echo "$summary" | grep -qE " [1-9][0-9]* held back .* 1 slow clients closed" ||
 
 # 2. The sheet pressed for 7 s, with no bridge, then beside a bridge and a
 # client that subscribes to everything and stops reading.
-sed -e 's/duration: 1}/duration: 7}/' "$WORK/tour.yaml" >"$WORK/press.yaml"
+sheet_tour 7 press.yaml
 grep -vE "^  (marker|camera):" "$WORK/realtime.yaml" | sed -E -e '/^  - name: cam$/,+2d' -e 's/tour.yaml/press.yaml/' \
   -e 's/port: 0/port: 0, client_limit_mb: 0.5/' -e 's/report: omni.json/report: loop.json/' >"$WORK/loop.yaml"
 grep -q "kind: tracker" "$WORK/loop.yaml" && fail "the loop's scene still has a camera"

@@ -13,15 +13,7 @@
 # 3. --host naming a host the file lacks is refused at the file's hosts
 #    list, before anything starts.
 source "$(dirname "$0")/lib.sh"
-cat >"$WORK/tour.yaml" <<'YAML'
-start: [0, 0, 0.05]
-actions:
-  - move_to: {to: [0.03, 0, 0.024], speed: 0.05}
-  - press: {depth: 0.008, speed: 0.01}
-  - hold: {duration: 1}
-  - release: {speed: 0.02}
-  - hold: {duration: 20}
-YAML
+sheet_tour 1
 body='hosts:
   - {name: device, address: 10.77.0.1}
   - {name: sim, address: 10.77.0.2, clock: on}

@@ -67,15 +67,7 @@ on_host() {
 }
 # multicast on|off: whether the bridge floods multicast between the hosts.
 multicast() { for h in device sim; do bridge link set dev "$(ns_of $h)" mcast_flood "$1" || fail "bridge link set"; done; }
-cat >"$WORK/tour.yaml" <<'YAML'
-start: [0, 0, 0.05]
-actions:
-  - move_to: {to: [0.03, 0, 0.024], speed: 0.05}
-  - press: {depth: 0.008, speed: 0.01}
-  - hold: {duration: 1}
-  - release: {speed: 0.02}
-  - hold: {duration: 20}
-YAML
+sheet_tour 1
 # rig FILE DISCOVERY MODE DURATION: the two hosts' deployment
 rig() {
   deployment "$1" <<YAML
