@@ -123,6 +123,25 @@ actions:
 YAML
 }
 
+# same_from_step_200 SPLIT ONE: fails unless the recordings $WORK/SPLIT.rec
+# and $WORK/ONE.rec export the same HapticState, ForceFeedback and
+# DeformedMesh, bit for bit, from step 200 on (a lockstep recording may
+# miss a writer's first steps, matched after the clock started: an open
+# defect of --record), and the press reached the sheet; leaves
+# $WORK/TOPIC.ONE.jsonl
+same_from_step_200() {
+  local t run
+  for t in HapticState ForceFeedback DeformedMesh; do
+    for run in "$1" "$2"; do
+      "$BIN/hcosim" export "$WORK/$run.rec" --topic $t 2>/dev/null | grep -vE '"step":(1?[0-9]?[0-9]),' \
+        >"$WORK/$t.$run.jsonl" || fail "export $t of $run: nothing from step 200 on"
+    done
+    cmp -s "$WORK/$t.$1.jsonl" "$WORK/$t.$2.jsonl" ||
+      fail "$t differs between $1.rec and $2.rec from line $(cmp "$WORK/$t.$1.jsonl" "$WORK/$t.$2.jsonl" | awk '{ print $NF }')"
+  done
+  grep -q '"in_contact":true' "$WORK/ForceFeedback.$2.jsonl" || fail "the lockstep press never reached the sheet"
+}
+
 # shm_segments: Fast DDS's shared-memory segments in /dev/shm (data and
 # ports), not the 32-byte named semaphores it leaves for every port number
 # ever used (sem.fastrtps_portN_mutex, which `fastdds shm clean` leaves too)
