@@ -13,6 +13,8 @@
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
 
+#include "services/runtime/transport.h"
+
 namespace hcosim::services::runtime {
 
 namespace {
@@ -82,6 +84,14 @@ void apply(const Network& n, eprosima::fastdds::dds::DomainParticipantQos& qos) 
     if (n.discovery == "peers") mine->maxInitialPeersRange = 16;
     t = mine;
   }
+  // Beside shared memory, UDP leaves this host's readers to it (transport.h).
+  const bool shm = std::any_of(transports.begin(), transports.end(), [](const auto& t) {
+    return std::dynamic_pointer_cast<SharedMemTransportDescriptor>(t) != nullptr;
+  });
+  if (shm)
+    for (auto& t : transports)
+      if (const auto udp = std::dynamic_pointer_cast<UDPv4TransportDescriptor>(t))
+        t = std::make_shared<UdpBesideShmDescriptor>(udp);
   auto& builtin = qos.wire_protocol().builtin;
   if (n.discovery == "peers") {
     // Unicast only: the participant listens on its host's address and

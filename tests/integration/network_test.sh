@@ -7,6 +7,8 @@
 # 1. Multicast discovery (the default): the device feels the sheet served
 #    from the other host, the samples crossed the bridge, and `hcosim
 #    topics` on the device's host shows each writer's and reader's host.
+#    One host alone: its processes' 1 kHz samples go by shared memory
+#    only, not by UDP too.
 # 2. With multicast blocked on the bridge: multicast discovery finds no one
 #    (the device's up names the other host's services it never heard),
 #    while initial peers from hosts: and a Fast DDS Discovery Server (run
@@ -123,6 +125,29 @@ packets=$(($(crossed) - before))
 awk -v p="$(felt)" 'BEGIN { exit !(p > 0.02) }' || fail "multicast: the device felt $(felt) N of the sheet on the other host"
 [ "$packets" -gt 5000 ] || fail "only $packets packets crossed the bridge from the device's host"
 echo "network_test: multicast: the device felt $(felt) N from the other host; $packets packets crossed the bridge from it"
+
+# 1b. One host alone: its processes' samples (the device's and the sheet's,
+# 1,000 a second each way) go by shared memory only, none by UDP beside it
+# (services/runtime/transport.h). The namespace's own UDP counters see
+# only discovery's datagrams.
+deployment single.yaml <<YAML
+mode: realtime
+duration: 3
+scene: {objects: [{name: sheet, kind: deformable, model: sheet, centre: [0.03, 0, 0.02], size: 0.03}]}
+services:
+  - {name: omni, kind: haptic, rate: 1000, params: {script: tour.yaml, centre: [0, 0, 0.02], report: omni.json}}
+  - {name: objects, kind: deformable, rate: 1000}
+YAML
+udp_in() { ip netns exec "$(ns_of sim)" awk '/^Udp:/ { n++ } /^Udp:/ && n == 2 { print $2 }' /proc/net/snmp; }
+before=$(udp_in)
+rm -f "$WORK/omni.json"
+on_host sim timeout $((60 * SLOWDOWN)) "$BIN/hcosim" up "$WORK/single.yaml" --out "$WORK/single" >"$WORK/single.log" 2>&1 ||
+  fail "one host: up exited $?: $(tail -n 3 "$WORK/single.log")"
+datagrams=$(($(udp_in) - before))
+awk -v p="$(felt)" 'BEGIN { exit !(p > 0.02) }' || fail "one host: the device felt $(felt) N of the sheet"
+[ "$datagrams" -lt 1000 ] ||
+  fail "one host: $datagrams UDP datagrams arrived in 3 s of 1 kHz samples between its processes (shared memory carries them)"
+echo "network_test: one host: the device felt $(felt) N; $datagrams UDP datagrams arrived in its 3 s, all discovery"
 
 # 2. Multicast blocked.
 multicast off

@@ -1,6 +1,7 @@
 // What a host of a rig gives Fast DDS: its address as the only UDP
 // interface, every host's address as initial peers (no multicast), or the
-// Discovery Server's; no shared memory when the file says udp.
+// Discovery Server's; no shared memory when the file says udp, and UDP
+// beside shared memory leaves this host's readers to it.
 #include "services/runtime/network.h"
 
 #include <cstdio>
@@ -13,6 +14,7 @@
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 
 #include "services/runtime/participant.h"
+#include "services/runtime/transport.h"
 
 namespace hcosim::services::runtime {
 namespace {
@@ -44,10 +46,20 @@ DomainParticipantQos profile() {
   return qos;
 }
 
+// The UDPv4 descriptor of `qos`, under UdpBesideShm's where it is wrapped.
 std::shared_ptr<UDPv4TransportDescriptor> udp_of(const DomainParticipantQos& qos) {
-  for (const auto& t : qos.transport().user_transports)
+  for (const auto& t : qos.transport().user_transports) {
     if (auto u = std::dynamic_pointer_cast<UDPv4TransportDescriptor>(t)) return u;
+    if (auto w = std::dynamic_pointer_cast<UdpBesideShmDescriptor>(t))
+      return std::dynamic_pointer_cast<UDPv4TransportDescriptor>(w->low_level_descriptor);
+  }
   return nullptr;
+}
+
+bool udp_beside_shm(const DomainParticipantQos& qos) {
+  for (const auto& t : qos.transport().user_transports)
+    if (std::dynamic_pointer_cast<UdpBesideShmDescriptor>(t)) return true;
+  return false;
 }
 
 bool has_shm(const DomainParticipantQos& qos) {
@@ -62,6 +74,7 @@ TEST(Network, OneMachineKeepsTheProfile) {
   DomainParticipantQos qos = profile();
   apply(n, qos);
   EXPECT_TRUE(has_shm(qos));
+  EXPECT_TRUE(udp_beside_shm(qos)) << "UDP leaves this host's readers to shared memory";
   ASSERT_TRUE(udp_of(qos));
   EXPECT_TRUE(udp_of(qos)->interfaceWhiteList.empty());
   EXPECT_TRUE(qos.wire_protocol().builtin.initialPeersList.empty());
@@ -73,6 +86,7 @@ TEST(Network, PeersAreEveryHostsAddressAndTheHostsOwnIsItsOnlyInterface) {
   const auto before = udp_of(qos);
   apply(n, qos);
   EXPECT_FALSE(has_shm(qos));
+  EXPECT_FALSE(udp_beside_shm(qos)) << "with no shared memory, UDP reaches every reader";
   const auto udp = udp_of(qos);
   ASSERT_TRUE(udp);
   EXPECT_NE(udp, before) << "the profile's own descriptor was changed";
