@@ -21,6 +21,15 @@
 //   same bytes. Each round starts with warm-up samples, not counted, until
 //   every reader has taken one (startup_ms, the slowest round's) and half
 //   a second more: loss and latency are a running reader's.
+// rtt_hosts, mesh_hosts: the same between hosts made of Linux network
+//   namespaces on one bridge (Hosts; each its own address and /dev/shm, so
+//   UDP only), where this machine can make them: the round trips between
+//   two hosts, 10^5-vertex meshes from one host to a reader on each of two
+//   others. Every participant has the rig's network (a deployment's
+//   `network: {}` defaults: its host's address the only UDP interface, 4
+//   MiB socket buffers), bare Fast DDS's mesh endpoints the same buffers
+//   and interface; this process's side runs on a thread moved into the
+//   first host.
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -41,6 +50,7 @@
 
 #include "adapters/validate.h"
 #include "services/bench/bench.h"
+#include "services/bench/hosts.h"
 #include "services/bench/peer.h"
 #include "services/runtime/realtime.h"
 #include "services/runtime/service.h"
@@ -52,18 +62,51 @@ namespace {
 
 using namespace eprosima::fastdds::dds;
 
+// Runs this executable with `args` in a child, behind the command `on`
+// (a host's, Hosts::exec) if any.
+pid_t start_self(const std::vector<std::string>& on, const std::vector<std::string>& args) {
+  std::vector<std::string> all = on;
+  all.push_back(fs::read_symlink("/proc/self/exe").string());
+  all.insert(all.end(), args.begin(), args.end());
+  const pid_t pid = fork();
+  if (pid == 0) {
+    std::vector<char*> argv;
+    for (std::string& a : all) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execvp(argv[0], argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+// On host `k` of `hosts`: the arguments that give a peer the rig's network there.
+std::vector<std::string> rig_args(const Hosts& hosts, int k) {
+  return {"--deployment", hosts.rig().string(), "--host", hosts.name(k)};
+}
+
+// The network of this process's side on host `k` of `hosts`.
+runtime::Network rig_network(const Hosts& hosts, int k) {
+  return runtime::network_of(runtime::load_deployment(hosts.rig().string()), hosts.name(k));
+}
+
 // ---- bare Fast DDS endpoints
 
 // Default participant QoS (builtin transports) unless `mesh_transports`:
-// then deploy/qos.xml's shared memory (8 MiB segment) and UDPv4, set in code.
-DomainParticipant* bare_participant(int domain, bool mesh_transports) {
+// then deploy/qos.xml's shared memory (8 MiB segment) and UDPv4, set in
+// code, the UDP socket buffers and interface those of `network` (a rig's
+// host, between hosts) where it names them.
+DomainParticipant* bare_participant(int domain, bool mesh_transports, const runtime::Network& network = {}) {
   DomainParticipantQos q;  // constructed, not PARTICIPANT_QOS_DEFAULT: no XML profile applies
   if (mesh_transports) {
     auto shm = std::make_shared<eprosima::fastdds::rtps::SharedMemTransportDescriptor>();
     shm->segment_size(8 * 1024 * 1024);
     shm->port_queue_capacity(1024);
+    auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
+    if (network.socket_buffer_bytes > 0)
+      udp->sendBufferSize = udp->receiveBufferSize = std::uint32_t(network.socket_buffer_bytes);
+    if (!network.address.empty()) udp->interfaceWhiteList = {network.address};
     q.transport().use_builtin_transports = false;
-    q.transport().user_transports = {shm, std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>()};
+    q.transport().user_transports = {shm, udp};
   }
   DomainParticipant* p = DomainParticipantFactory::get_instance()->create_participant(domain, q);
   if (!p) throw std::runtime_error("bench: Fast DDS cannot create a participant on domain " + std::to_string(domain));
@@ -186,11 +229,15 @@ Row rtt_row(const std::string& impl, const Rtt& r) {
   return row;
 }
 
-Rtt hcosim_rtt(int domain, double seconds) {
-  const pid_t peer = start_peer("hcosim", domain, seconds);
+// Round trips from this thread against an hcosim peer; with `hosts`, this
+// thread on host 0 and the peer on host 1, each with the rig's network.
+Rtt hcosim_rtt(int domain, double seconds, const Hosts* hosts = nullptr) {
+  const pid_t peer = hosts ? start_peer("hcosim", domain, seconds, 0, hosts->exec(1), rig_args(*hosts, 1))
+                           : start_peer("hcosim", domain, seconds);
   Rtt r;
   {
-    runtime::Participant p(domain, "bench");
+    runtime::Participant p(domain, "bench", runtime::default_qos_file(), nullptr, false, {},
+                           hosts ? rig_network(*hosts, 0) : runtime::Network{});
     runtime::Writer<HapticState> w(p);
     runtime::Reader<ForceFeedback> rd(p, [](const ForceFeedback& s) { return adapters::validate(s); });
     await_match([&] { return std::min(w.matched(), rd.matched()); }, 1);
@@ -327,16 +374,23 @@ Writing write_meshes(int vertices, int count, const std::vector<fs::path>& reade
   return w;
 }
 
-pid_t start_mesh_reader(const std::string& impl, int domain, int count, const fs::path& out) {
-  const std::string self = fs::read_symlink("/proc/self/exe").string();
-  const pid_t pid = fork();
-  if (pid == 0) {
-    execl(self.c_str(), self.c_str(), "bench-peer", "--role", "mesh", "--impl", impl.c_str(), "--domain",
-          std::to_string(domain).c_str(), "--count", std::to_string(count).c_str(), "--out", out.c_str(), "--duration",
-          std::to_string(count / kMeshRateHz + 30).c_str(), nullptr);
-    _exit(127);
-  }
-  return pid;
+pid_t start_mesh_reader(const std::string& impl, int domain, int count, const fs::path& out,
+                        const std::vector<std::string>& on, const std::vector<std::string>& args) {
+  std::vector<std::string> all = {"bench-peer",
+                                  "--role",
+                                  "mesh",
+                                  "--impl",
+                                  impl,
+                                  "--domain",
+                                  std::to_string(domain),
+                                  "--count",
+                                  std::to_string(count),
+                                  "--out",
+                                  out.string(),
+                                  "--duration",
+                                  std::to_string(count / kMeshRateHz + 30)};
+  all.insert(all.end(), args.begin(), args.end());
+  return start_self(on, all);
 }
 
 // Waits up to `seconds` for `pid`, then stops it; true if it exited 0.
@@ -384,9 +438,10 @@ struct MeshTotals {
 };
 
 // One round: `count` samples to `readers` fresh reader processes.
+// With `hosts`, the writer is on host 0 (this thread's) and reader k on host k + 1.
 void mesh_round(const Context& c, const std::string& impl, int vertices, int readers, int count, int round,
-                MeshTotals& t) {
-  const fs::path dir = c.out / "dds_run";
+                MeshTotals& t, const Hosts* hosts = nullptr) {
+  const fs::path dir = c.out / (hosts ? "dds_hosts_run" : "dds_run");
   fs::create_directories(dir);
   std::vector<pid_t> pids;
   std::vector<fs::path> files;
@@ -394,12 +449,14 @@ void mesh_round(const Context& c, const std::string& impl, int vertices, int rea
     files.push_back(dir / (impl + "_" + std::to_string(vertices) + "_" + std::to_string(k) + ".txt"));
     fs::remove(files.back());
     fs::remove(files.back().string() + ".ready");
-    pids.push_back(start_mesh_reader(impl, c.domain, count, files.back()));
+    pids.push_back(start_mesh_reader(impl, c.domain, count, files.back(),
+                                     hosts ? hosts->exec(k + 1) : std::vector<std::string>{},
+                                     hosts ? rig_args(*hosts, k + 1) : std::vector<std::string>{}));
   }
   const auto ack = std::chrono::seconds(5);
   Writing w;
   if (impl == "bare") {
-    DomainParticipant* p = bare_participant(c.domain, true);
+    DomainParticipant* p = bare_participant(c.domain, true, hosts ? rig_network(*hosts, 0) : runtime::Network{});
     DataWriterQos q = DATAWRITER_QOS_DEFAULT;
     q.reliability().kind = RELIABLE_RELIABILITY_QOS;
     q.durability().kind = VOLATILE_DURABILITY_QOS;
@@ -418,7 +475,8 @@ void mesh_round(const Context& c, const std::string& impl, int vertices, int rea
         [&] { return dw->wait_for_acknowledgments(runtime::to_dds(ack)) == ReturnCode_t::RETCODE_OK; });
     destroy(p);
   } else {
-    runtime::Participant p(c.domain, "bench");
+    runtime::Participant p(c.domain, "bench", runtime::default_qos_file(), nullptr, false, {},
+                           hosts ? rig_network(*hosts, 0) : runtime::Network{});
     runtime::Writer<DeformedMesh> dw(p);
     w = write_meshes(
         vertices, count, files, [&] { return dw.matched(); }, [&](DeformedMesh& m) { return dw.write(m); },
@@ -497,7 +555,8 @@ std::vector<Row> dds_rows(const Context& c) {
 
 // One reader of mesh_pub: takes DeformedMesh until the last of `count`
 // arrives or it is stopped, then writes what it saw (see Seen).
-int mesh_reader(const std::string& impl, int domain, int count, const fs::path& out, std::int64_t end) {
+int mesh_reader(const std::string& impl, int domain, int count, const fs::path& out, std::int64_t end,
+                const runtime::Network& network) {
   Seen seen;
   double cpu0 = -1;
   bool said = false;
@@ -514,7 +573,7 @@ int mesh_reader(const std::string& impl, int domain, int count, const fs::path& 
   };
   bool last = false;
   if (impl == "bare") {
-    DomainParticipant* p = bare_participant(domain, true);
+    DomainParticipant* p = bare_participant(domain, true, network);
     DataReaderQos q = DATAREADER_QOS_DEFAULT;
     q.reliability().kind = RELIABLE_RELIABILITY_QOS;
     q.durability().kind = VOLATILE_DURABILITY_QOS;
@@ -531,7 +590,7 @@ int mesh_reader(const std::string& impl, int domain, int count, const fs::path& 
     }
     destroy(p);
   } else {
-    runtime::Participant p(domain, "bench_mesh_reader");
+    runtime::Participant p(domain, "bench_mesh_reader", runtime::default_qos_file(), nullptr, false, {}, network);
     runtime::Rejections rejected;
     runtime::Reader<DeformedMesh> r(
         p, [](const DeformedMesh& m) { return adapters::validate(m); }, &rejected, runtime::TopicOf<DeformedMesh>::qos,
@@ -549,15 +608,19 @@ int mesh_reader(const std::string& impl, int domain, int count, const fs::path& 
 
 }  // namespace
 
-pid_t start_peer(const std::string& impl, int domain, double seconds, int priority) {
-  const std::string self = fs::read_symlink("/proc/self/exe").string();
-  const pid_t pid = fork();
-  if (pid == 0) {
-    execl(self.c_str(), self.c_str(), "bench-peer", "--impl", impl.c_str(), "--domain", std::to_string(domain).c_str(),
-          "--duration", std::to_string(seconds + 30).c_str(), "--priority", std::to_string(priority).c_str(), nullptr);
-    _exit(127);
-  }
-  return pid;
+pid_t start_peer(const std::string& impl, int domain, double seconds, int priority, const std::vector<std::string>& on,
+                 const std::vector<std::string>& args) {
+  std::vector<std::string> all = {"bench-peer",
+                                  "--impl",
+                                  impl,
+                                  "--domain",
+                                  std::to_string(domain),
+                                  "--duration",
+                                  std::to_string(seconds + 30),
+                                  "--priority",
+                                  std::to_string(priority)};
+  all.insert(all.end(), args.begin(), args.end());
+  return start_self(on, all);
 }
 
 void stop_peer(pid_t pid) {
@@ -610,11 +673,83 @@ Rtt bare_rtt(int domain, double seconds, int priority) {
   return r;
 }
 
+namespace {
+
+// ---- between hosts
+
+// The same round trips and meshes between hosts made of network namespaces
+// (Hosts), over UDP on their bridge: this process's side on host 0 (a
+// thread of its own moves there), the round trips' peer on host 1, one
+// mesh reader on each of hosts 1 and 2. None where the hosts cannot be
+// made here; the progress line says why.
+std::vector<Row> hosts_rows(const Context& c, double seconds, int count, int rounds) {
+  std::string why;
+  const std::unique_ptr<Hosts> hosts = Hosts::make(c.domain, 3, c.out / "dds_hosts", why);
+  if (!hosts) {
+    progress("dds between hosts: skipped: " + why);
+    return {};
+  }
+  std::vector<Row> rows;
+  std::exception_ptr error;
+  std::thread([&] {
+    try {
+      hosts->enter(0);
+      const std::string s = std::to_string(int(seconds));
+      progress("dds rtt_hosts bare Fast DDS, " + s + " s at 1 kHz, " + hosts->address(0) + " to " + hosts->address(1));
+      const pid_t bare_peer = start_peer("bare", c.domain, seconds, 0, hosts->exec(1));
+      Row bare = rtt_row("bare", bare_ping(c.domain, seconds));
+      stop_peer(bare_peer);
+      progress("dds rtt_hosts hcosim runtime, " + s + " s at 1 kHz, " + hosts->address(0) + " to " + hosts->address(1));
+      Row ours = rtt_row("hcosim", hcosim_rtt(c.domain, seconds, hosts.get()));
+      ours.metrics.push_back({"p50_ratio_to_bare", ours.metrics[0].second / bare.metrics[0].second});
+      ours.metrics.push_back({"p99_ratio_to_bare", ours.metrics[1].second / bare.metrics[1].second});
+      for (Row* r : {&bare, &ours}) {
+        r->name = "rtt_hosts";
+        r->params.push_back({"hosts", 2.0});
+        rows.push_back(std::move(*r));
+      }
+      const int vertices = 100000, readers = 2;
+      MeshTotals bare_t, ours_t;
+      for (int round = 0; round < rounds; ++round)
+        for (const bool first : {true, false}) {
+          const bool is_bare = first == (round % 2 == 0);
+          const std::string impl = is_bare ? "bare" : "hcosim";
+          progress("dds mesh_hosts " + impl + ": " + std::to_string(vertices) + " vertices from " + hosts->address(0) +
+                   " to " + hosts->address(1) + " and " + hosts->address(2) + ", round " + std::to_string(round + 1) +
+                   " of " + std::to_string(rounds) + ", " + std::to_string(count) + " samples at 60 Hz");
+          mesh_round(c, impl, vertices, readers, count, round, is_bare ? bare_t : ours_t, hosts.get());
+        }
+      Row mbare = mesh_row("bare", vertices, readers, bare_t);
+      Row mours = mesh_row("hcosim", vertices, readers, ours_t);
+      mours.metrics.push_back({"p50_ratio_to_bare", mours.metrics[0].second / mbare.metrics[0].second});
+      mours.metrics.push_back({"p99_ratio_to_bare", mours.metrics[1].second / mbare.metrics[1].second});
+      for (Row* r : {&mbare, &mours}) {
+        r->name = "mesh_hosts";
+        r->params.push_back({"hosts", 3.0});
+        rows.push_back(std::move(*r));
+      }
+    } catch (...) {
+      error = std::current_exception();
+    }
+  }).join();
+  if (error) std::rethrow_exception(error);
+  return rows;
+}
+
+// One host's rows, then the rows between hosts.
+std::vector<Row> all_rows(const Context& c) {
+  std::vector<Row> rows = dds_rows(c);
+  for (Row& r : hosts_rows(c, c.quick ? 5 : 30, c.quick ? 120 : 200, c.quick ? 2 : 6)) rows.push_back(std::move(r));
+  return rows;
+}
+
+}  // namespace
+
 Suite dds_suite() {
   Suite s{"dds",
           "the DDS transport between processes: 1 kHz haptic round trips and 60 Hz deformed meshes, hcosim's runtime "
-          "against bare Fast DDS in the same run",
-          dds_rows};
+          "against bare Fast DDS in the same run, on one host and between hosts made of network namespaces",
+          all_rows};
   s.tables = {{"rtt",
                "HapticState written at 1 kHz, answered at once by a ForceFeedback from another process; time from "
                "write to the answer's take, pooled over every tick, hcosim's runtime on both ends against Fast DDS "
@@ -641,9 +776,22 @@ Suite dds_suite() {
               {"impl", "subscribers"},
               {},
               {"impl", "bare"}}};
+  s.tables.push_back({"rtt_hosts",
+                      "The rtt rows' round trips between two hosts made of Linux network namespaces on one bridge "
+                      "(each its own address and /dev/shm: UDP only), this process's side on one, the peer on the "
+                      "other."});
+  s.tables.push_back({"mesh_hosts",
+                      "The mesh_pub rows' 10^5-vertex meshes between hosts made of network namespaces: written on "
+                      "one, read by one process on each of two others, over UDP (fragments of 64 KB datagrams), "
+                      "RELIABLE; alternating rounds as above."});
   // Bare Fast DDS's own losses are the baseline's, reported beside ours.
   s.goals = {{"no sample lost with reliable QoS", "mesh_pub", "loss_ratio", 0, "impl", "hcosim"},
-             {"hcosim's p99 within 1.2 times bare Fast DDS's", "mesh_pub", "p99_ratio_to_bare", 1.2, "impl", "hcosim"}};
+             {"hcosim's p99 within 1.2 times bare Fast DDS's", "mesh_pub", "p99_ratio_to_bare", 1.2, "impl", "hcosim"},
+             {"between hosts, the haptic round trip's p99 within 1.5 times bare Fast DDS's", "rtt_hosts",
+              "p99_ratio_to_bare", 1.5, "impl", "hcosim"},
+             {"between hosts, no mesh lost with reliable QoS", "mesh_hosts", "loss_ratio", 0, "impl", "hcosim"},
+             {"between hosts, hcosim's mesh p99 within 1.2 times bare Fast DDS's", "mesh_hosts", "p99_ratio_to_bare",
+              1.2, "impl", "hcosim"}};
   return s;
 }
 
@@ -651,6 +799,7 @@ namespace {
 
 struct PeerOptions {
   std::string impl, role = "pong", out = "mesh_reader.txt";
+  std::string deployment, host;  // hcosim: the rig's file and this peer's host in it
   int domain = 0, priority = 0, count = 0;
   double duration_s = 60;
 };
@@ -662,7 +811,10 @@ int peer(const PeerOptions& o) {
   const std::int64_t end = runtime::mono_ns() + std::int64_t(o.duration_s * 1e9);
   const std::string& impl = o.impl;
   runtime::install_stop_handlers();
-  if (o.role == "mesh") return mesh_reader(impl, domain, o.count, o.out, end);
+  if (o.role == "mesh")
+    return mesh_reader(impl, domain, o.count, o.out, end,
+                       o.deployment.empty() ? runtime::Network{}
+                                            : runtime::network_of(runtime::load_deployment(o.deployment), o.host));
   if (o.role == "ping") {
     // The bare pair as a baseline beside a test's deployment, same time, same load.
     const Rtt r = bare_rtt(domain, o.duration_s, o.priority);
@@ -691,6 +843,8 @@ int peer(const PeerOptions& o) {
   service.rate_hz = 1000;
   service.step_s = 0.001;
   service.qos_file = runtime::default_qos_file();
+  service.deployment = o.deployment;
+  service.host = o.host;
   runtime::Service svc(service);
   runtime::Reader<HapticState> r = svc.reader<HapticState>();
   runtime::Writer<ForceFeedback> w = svc.writer<ForceFeedback>();
@@ -721,6 +875,9 @@ void add_peer(CLI::App& app, runtime::Command& chosen) {
   c->add_option("--count", o->count, "meshes to read")->check(CLI::Range(0, 1000000000));
   c->add_option("--out", o->out, "what the mesh reader saw");
   c->add_option("--priority", o->priority, "SCHED_FIFO priority (0: normal)")->check(CLI::Range(0, 99));
+  c->add_option("--deployment", o->deployment, "hcosim: a rig's file, whose network section the peer uses")
+      ->check(CLI::ExistingFile);
+  c->add_option("--host", o->host, "hcosim: the peer's host in that file")->needs("--deployment");
   c->callback([&chosen, o] { chosen = [o] { return peer(*o); }; });
 }
 

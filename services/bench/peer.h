@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "services/runtime/stats.h"
 
@@ -21,8 +22,11 @@ struct Rtt {
 
 // A peer process answering HapticState with ForceFeedback: `impl` "bare"
 // (Fast DDS alone) or "hcosim" (the service runtime), at SCHED_FIFO
-// `priority` (0: the normal scheduler) as far as the system allows.
-pid_t start_peer(const std::string& impl, int domain, double seconds, int priority = 0);
+// `priority` (0: the normal scheduler) as far as the system allows,
+// behind the command `on` (another host's, Hosts::exec) if any, given
+// `args` too (such as that host's --deployment and --host).
+pid_t start_peer(const std::string& impl, int domain, double seconds, int priority = 0,
+                 const std::vector<std::string>& on = {}, const std::vector<std::string>& args = {});
 void stop_peer(pid_t pid);
 
 // Round trips against a bare Fast DDS peer for `seconds`, both ends (and

@@ -33,14 +33,12 @@ class UdpBesideShm : public eprosima::fastdds::rtps::ChainingTransport {
   // UDP's selection, for the readers with no shared-memory locator.
   void select_locators(eprosima::fastrtps::rtps::LocatorSelector& selector) const override;
 
-  bool send(eprosima::fastrtps::rtps::SenderResource* low, const eprosima::fastrtps::rtps::octet* buffer,
-            uint32_t size, eprosima::fastrtps::rtps::LocatorsIterator* begin,
-            eprosima::fastrtps::rtps::LocatorsIterator* end,
+  bool send(eprosima::fastrtps::rtps::SenderResource* low, const eprosima::fastrtps::rtps::octet* buffer, uint32_t size,
+            eprosima::fastrtps::rtps::LocatorsIterator* begin, eprosima::fastrtps::rtps::LocatorsIterator* end,
             const std::chrono::steady_clock::time_point& timeout) override;
 
-  void receive(eprosima::fastdds::rtps::TransportReceiverInterface* next,
-               const eprosima::fastrtps::rtps::octet* buffer, uint32_t size,
-               const eprosima::fastrtps::rtps::Locator_t& local,
+  void receive(eprosima::fastdds::rtps::TransportReceiverInterface* next, const eprosima::fastrtps::rtps::octet* buffer,
+               uint32_t size, const eprosima::fastrtps::rtps::Locator_t& local,
                const eprosima::fastrtps::rtps::Locator_t& remote) override;
 };
 

@@ -4,9 +4,9 @@
 // state is as UDP found it.
 #include "services/runtime/transport.h"
 
+#include <fastrtps/utils/IPLocator.h>
 #include <gtest/gtest.h>
 #include <fastdds/rtps/common/LocatorSelector.hpp>
-#include <fastrtps/utils/IPLocator.h>
 
 namespace hcosim::services::runtime {
 namespace {
