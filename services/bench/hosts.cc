@@ -97,7 +97,13 @@ void Hosts::remove() const {
 }
 
 std::vector<std::string> Hosts::exec(int host) const {
-  return {"ip", "netns", "exec", names_.at(std::size_t(host)), "sh", "-c", "mount --bind \"$0\" /dev/shm && exec \"$@\"",
+  return {"ip",
+          "netns",
+          "exec",
+          names_.at(std::size_t(host)),
+          "sh",
+          "-c",
+          "mount --bind \"$0\" /dev/shm && exec \"$@\"",
           shm_.at(std::size_t(host)).string()};
 }
 

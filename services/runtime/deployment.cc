@@ -114,13 +114,14 @@ void parse_hosts(const Config& root, Deployment& d) {
 void parse_network(const Config& root, Deployment& d) {
   if (!root.node()["network"].IsMap()) root.fail("network", "'network' must be a map (docs/deployment.md)");
   const Config n = root.map("network");
-  n.allow_only({"discovery", "server", "server_port", "transport", "socket_buffer_kib"});
+  n.allow_only({"discovery", "server", "server_port", "transport", "socket_buffer_kib", "bulk_mbit"});
   if (d.hosts.empty()) root.fail("network", "'network' is for a rig of several hosts: the file has no hosts: list");
   NetworkSpec& net = d.network;
   net.defined = true;
   net.discovery = n.text("discovery", net.discovery, {"multicast", "peers", "server"});
   net.udp_only = n.text("transport", "shm_udp", {"shm_udp", "udp"}) == "udp";
   net.socket_buffer_kib = n.whole("socket_buffer_kib", net.socket_buffer_kib, 0, 1 << 20);
+  net.bulk_mbit = n.number("bulk_mbit", net.bulk_mbit, 0, 100000);
   net.server_port = n.whole("server_port", net.server_port, 1024, 65535);
   if (n.has("server") && net.discovery != "server") n.fail("server", "'server' goes with discovery: server");
   if (net.discovery == "server") {

@@ -92,6 +92,7 @@ struct NetworkSpec {
   int server_port = 11811;              // its UDP port
   bool udp_only = false;                // transport udp: no shared memory, even between one host's processes
   int socket_buffer_kib = 4096;         // UDP sockets' send and receive buffers, KiB (0: the system's)
+  double bulk_mbit = 0;                 // each process's large samples sent at most this fast, Mbit/s (0: no cap)
 };
 
 struct Deployment {

@@ -42,6 +42,16 @@ constexpr bool durable_in_lockstep() {
   return std::is_same_v<T, HapticState>;
 }
 
+// Heartbeat period of paced writers (see Writer::caught_up).
+inline constexpr std::chrono::milliseconds kPacedHeartbeat{20};
+
+// Large samples: with the network's bulk cap (network.h, kBulkFlow) their
+// writers send through its flow controller.
+template <class T>
+constexpr bool bulk() {
+  return std::is_same_v<T, DeformedMesh> || std::is_same_v<T, CameraFrame>;
+}
+
 // The participant of an endpoint, from its handle (the endpoint's GUID).
 inline eprosima::fastrtps::rtps::GuidPrefix_t participant_of(const eprosima::fastrtps::rtps::InstanceHandle_t& h) {
   return eprosima::fastrtps::rtps::iHandle2GUID(h).guidPrefix;
@@ -78,7 +88,8 @@ struct Matches : eprosima::fastdds::dds::DataWriterListener {
 template <class T>
 class Writer {
  public:
-  explicit Writer(Participant& p, const std::string& profile = TopicOf<T>::qos) : p_(p) {
+  explicit Writer(Participant& p, const std::string& profile = TopicOf<T>::qos)
+      : p_(p), paced_(bulk<T>() && !p.lockstep() && has_bulk_flow(p)) {
     if (p.lockstep()) {
       eprosima::fastdds::dds::DataWriterQos qos;
       p.publisher()->get_datawriter_qos_from_profile(profile, qos);
@@ -88,6 +99,15 @@ class Writer {
       // each step last that long.
       qos.reliable_writer_qos().times.heartbeatPeriod = eprosima::fastrtps::Duration_t(0, kLockstepHeartbeatNs);
       if (durable_in_lockstep<T>()) qos.durability().kind = eprosima::fastdds::dds::TRANSIENT_LOCAL_DURABILITY_QOS;
+      writer_ = p.publisher()->create_datawriter(p.topic<T>(), qos, &matches_, match_mask());
+    } else if (paced_) {
+      eprosima::fastdds::dds::DataWriterQos qos;
+      p.publisher()->get_datawriter_qos_from_profile(profile, qos);
+      qos.publish_mode().kind = eprosima::fastdds::dds::ASYNCHRONOUS_PUBLISH_MODE;
+      qos.publish_mode().flow_controller_name = kBulkFlow;
+      // Readers acknowledge in answer to a heartbeat; caught_up() learns
+      // within this that the link is free (Fast DDS's default is 3 s).
+      qos.reliable_writer_qos().times.heartbeatPeriod = to_dds(kPacedHeartbeat);
       writer_ = p.publisher()->create_datawriter(p.topic<T>(), qos, &matches_, match_mask());
     } else {
       writer_ = p.publisher()->create_datawriter_with_profile(p.topic<T>(), profile, &matches_, match_mask());
@@ -110,6 +130,16 @@ class Writer {
     return writer_->wait_for_acknowledgments(to_dds(timeout)) == ReturnCode_t::RETCODE_OK;
   }
 
+  // Whether write() only queues the sample for the bulk flow controller
+  // (realtime, under the network's bulk_mbit).
+  bool paced() const { return paced_; }
+  // Whether every reliable reader has acknowledged every sample written: a
+  // paced writer that has not is still sending an older one, and a newer
+  // one would wait behind it.
+  bool caught_up() const {
+    return writer_->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(0, 0)) == ReturnCode_t::RETCODE_OK;
+  }
+
   // Readers currently matched: zero means an output nobody reads.
   int matched() const {
     eprosima::fastdds::dds::PublicationMatchedStatus s;
@@ -130,7 +160,13 @@ class Writer {
   static eprosima::fastdds::dds::StatusMask match_mask() {
     return eprosima::fastdds::dds::StatusMask::publication_matched();
   }
+  static bool has_bulk_flow(Participant& p) {
+    const auto& flows = p.publisher()->get_participant()->get_qos().flow_controllers();
+    return std::any_of(flows.begin(), flows.end(),
+                       [](const auto& f) { return f && f->name && std::string(f->name) == kBulkFlow; });
+  }
   Participant& p_;
+  const bool paced_;
   Matches matches_;  // before writer_, which calls it
   eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
 };

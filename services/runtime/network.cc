@@ -12,6 +12,7 @@
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
+#include <fastdds/rtps/flowcontrol/FlowControllerDescriptor.hpp>
 
 #include "services/runtime/transport.h"
 
@@ -51,6 +52,7 @@ Network network_of(const Deployment& d, const std::string& host) {
   n.discovery = spec.discovery;
   n.udp_only = spec.udp_only;
   n.socket_buffer_bytes = spec.socket_buffer_kib * 1024;
+  n.bulk_bytes_per_s = spec.bulk_mbit * 1e6 / 8;
   for (const Host& h : d.hosts) {
     if (spec.discovery == "peers") n.peers.push_back(h.address);
     if (spec.discovery == "server" && h.name == spec.server) n.server = h.address, n.server_port = spec.server_port;
@@ -92,6 +94,15 @@ void apply(const Network& n, eprosima::fastdds::dds::DomainParticipantQos& qos) 
     for (auto& t : transports)
       if (const auto udp = std::dynamic_pointer_cast<UDPv4TransportDescriptor>(t))
         t = std::make_shared<UdpBesideShmDescriptor>(udp);
+  if (n.bulk_bytes_per_s > 0) {
+    // A 10 ms period: a sample's fragments go out a period's bytes at a
+    // time, not as one burst of the whole sample.
+    auto bulk = std::make_shared<eprosima::fastdds::rtps::FlowControllerDescriptor>();
+    bulk->name = kBulkFlow;
+    bulk->period_ms = 10;
+    bulk->max_bytes_per_period = std::int32_t(std::max(1500.0, n.bulk_bytes_per_s * 0.010));
+    qos.flow_controllers().push_back(bulk);
+  }
   auto& builtin = qos.wire_protocol().builtin;
   if (n.discovery == "peers") {
     // Unicast only: the participant listens on its host's address and

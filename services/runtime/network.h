@@ -20,6 +20,7 @@ struct Network {
   std::string address;                  // this host's address: UDP only there; "" any interface
   bool udp_only = false;                // no shared-memory transport
   int socket_buffer_bytes = 0;          // UDP send and receive buffers; 0: the system's
+  double bulk_bytes_per_s = 0;          // large samples' cap (kBulkFlow); 0: none
 };
 
 // The network of a process on `host` of `d`; Fast DDS's default
@@ -32,6 +33,12 @@ Network network_of(const Deployment& d, const std::string& host);
 // Sets `qos`'s transports and discovery to `n` (copies of the profile's
 // transport descriptors, changed).
 void apply(const Network& n, eprosima::fastdds::dds::DomainParticipantQos& qos);
+
+// The flow controller that paces a process's large samples (meshes,
+// camera frames) under the network's bulk_mbit: Writer sends those
+// asynchronously through it, so that they leave room on a slow link for
+// the haptic topics, which never wait behind them.
+inline constexpr const char* kBulkFlow = "hcosim_bulk";
 
 // The GUID prefix of Fast DDS Discovery Server id 0 (`fastdds discovery -i 0`).
 inline constexpr const char* kDiscoveryServerPrefix = "44.53.00.5f.45.50.52.4f.53.49.4d.41";

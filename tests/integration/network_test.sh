@@ -20,6 +20,9 @@
 # 4. Lockstep with the clock on `sim`, over peers: the run recorded on
 #    `device` exports the same states, forces and meshes, bit for bit from
 #    step 200 (see integration.hosts), as the same file run on one host.
+# 5. A slow link (tc tbf, 10 Mbit/s) under meshes, paced by the network's
+#    bulk_mbit: the device's ticks stay in time, the frames the link cannot
+#    take are dropped and counted.
 # Skipped (status 77) where namespaces cannot be made (not root, no ip).
 source "$(dirname "$0")/lib.sh"
 tag=$((DOMAIN % 1000))
@@ -205,4 +208,51 @@ on_host device "$BIN/hcosim" up "$WORK/lockstep.yaml" --record "$WORK/one.rec" -
   fail "lockstep on one host exited $?"
 same_from_step_200 split one
 echo "network_test: lockstep over peers: $(wc -l <"$WORK/DeformedMesh.one.jsonl") meshes and $(wc -l <"$WORK/ForceFeedback.one.jsonl") forces identical to one host's"
+
+# 5. A slow link: the sim host's egress limited to 10 Mbit/s (tc tbf),
+# under the hybrid cube's meshes (about 30 Mbit/s) that the device's up
+# records across it. With bulk_mbit 2 the meshes go paced and a frame the
+# link cannot take yet is dropped and counted: the device's answers stay
+# in tick. (Without it, here, no tick was: every answer queued behind
+# mesh fragments.)
+cat >"$WORK/cube_tour.yaml" <<YAML
+start: [0, 0, 0.05]
+actions:
+  - move_to: {to: [0.03, 0, 0.038], speed: 0.05}
+  - press: {depth: 0.006, speed: 0.01}
+  - hold: {duration: 3}
+  - release: {speed: 0.02}
+  - hold: {duration: 20}
+YAML
+deployment slow.yaml <<YAML
+mode: realtime
+duration: 7
+network: {discovery: peers, bulk_mbit: 2}
+hosts:
+  - {name: device, address: $net.1}
+  - {name: sim, address: $net.2, clock: on}
+scene: {objects: [{name: cube, kind: deformable, model: hybrid, centre: [0.03, 0, 0.02], size: 0.03}]}
+services:
+  - {name: omni, kind: haptic, rate: 1000, host: device, params: {script: cube_tour.yaml, centre: [0, 0, 0.02], report: omni.json}}
+  - {name: objects, kind: deformable, rate: 1000, host: sim}
+YAML
+if ! ip netns exec "$(ns_of sim)" tc qdisc add dev eth0 root tbf rate 10mbit burst 64kb latency 100ms \
+  >"$WORK/tc.log" 2>&1; then
+  echo "network_test: slow link: SKIPPED: cannot limit a link here (tc tbf): $(tail -n 1 "$WORK/tc.log")"
+  echo "network_test: ok"
+  exit 0
+fi
+split slow.yaml slow 60 --record "$WORK/slow.rec" || fail "slow link: up --host device exited $?"
+in_tick=$(jq -r .on_time_ratio "$WORK/omni.json")
+link=$(ip netns exec "$(ns_of sim)" tc -s qdisc show dev eth0 | awk '/Sent/ { print $2 " bytes, " $4 " packets, dropped " $7 }')
+awk -v r="$in_tick" 'BEGIN { exit !(r >= 0.9) }' ||
+  fail "slow link: only $in_tick of the device's ticks answered in time (link: $link; $(grep -h 'round trip' "$WORK/slow_device/logs/omni.log"))"
+awk -v p="$(felt)" 'BEGIN { exit !(p > 0.05) }' || fail "slow link: the device felt $(felt) N of the cube"
+"$BIN/hcosim" export "$WORK/slow.rec" --topic DeformedMesh >"$WORK/slow_meshes.jsonl" 2>"$WORK/export.log" ||
+  fail "export: $(cat "$WORK/export.log")"
+got=$(wc -l <"$WORK/slow_meshes.jsonl")
+shed=$(sed -nE 's/.*, ([0-9]+) shed \(link busy, network bulk_mbit\)$/\1/p' "$WORK/slow_sim/logs/objects.log")
+[ "${shed:-0}" -gt 0 ] || fail "slow link: no mesh frame dropped for the link: $(tail -n 3 "$WORK/slow_sim/logs/objects.log")"
+[ "$got" -ge 10 ] || fail "slow link: only $got meshes crossed it"
+echo "network_test: slow link (10 Mbit/s, bulk_mbit 2): $in_tick of ticks in time, $got meshes crossed, $shed frames dropped and counted"
 echo "network_test: ok"

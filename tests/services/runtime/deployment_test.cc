@@ -132,6 +132,8 @@ INSTANTIATE_TEST_SUITE_P(
                 ":3:37: ", "'server' goes with discovery: server"},
         BadCase{"network_server_interface", "hosts:\n  - {name: a, interface: eth1}\nnetwork: {discovery: server}\n",
                 ":3:22: ", "needs an address"},
+        BadCase{"network_bulk_negative", "hosts:\n  - {name: a, address: 10.0.0.1}\nnetwork: {bulk_mbit: -2}\n",
+                ":3:22: ", "bulk_mbit"},
         BadCase{"undefined_object",
                 "scene:\n  objects: []\nservices:\n  - {name: a, kind: rigid, rate: 5, objects: [x]}\n",
                 ":4:47: ", "no object 'x' in the scene"}),

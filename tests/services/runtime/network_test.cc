@@ -100,6 +100,21 @@ TEST(Network, PeersAreEveryHostsAddressAndTheHostsOwnIsItsOnlyInterface) {
   EXPECT_EQ(udp->maxInitialPeersRange, 16u);
 }
 
+// bulk_mbit: a flow controller that lets 10 ms of the cap out each 10 ms,
+// and none without it.
+TEST(Network, TheBulkCapIsAFlowControllerOfItsRate) {
+  DomainParticipantQos qos = profile();
+  apply(network_of(rig("{bulk_mbit: 8}", false), "sim"), qos);
+  ASSERT_EQ(qos.flow_controllers().size(), 1u);
+  const auto& f = *qos.flow_controllers().front();
+  EXPECT_STREQ(f.name, kBulkFlow);
+  EXPECT_EQ(f.period_ms, 10u);
+  EXPECT_EQ(f.max_bytes_per_period, 10000);  // 8 Mbit/s for 10 ms
+  DomainParticipantQos none = profile();
+  apply(network_of(rig("{}", false), "sim"), none);
+  EXPECT_TRUE(none.flow_controllers().empty());
+}
+
 TEST(Network, AHostByInterfaceIsThatInterfacesAddressHere) {
   const Network n = network_of(rig("{discovery: multicast}"), "camera");
   EXPECT_EQ(n.address, "127.0.0.1");

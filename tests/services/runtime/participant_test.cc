@@ -46,5 +46,20 @@ TEST(Participant, LockstepReadersHoldSamplesUntilTheirStep) {
   EXPECT_EQ(got, (std::vector<std::uint64_t>{3, 5}));
 }
 
+// Under the network's bulk cap, large samples' writers send paced (through
+// its flow controller), the haptic topics' never; without it, none is.
+TEST(Participant, TheBulkCapPacesLargeSamplesOnly) {
+  Network capped;
+  capped.bulk_bytes_per_s = 1e6;
+  Participant p(kDomain, "unit_paced", default_qos_file(), nullptr, false, {}, capped);
+  EXPECT_TRUE(Writer<DeformedMesh>(p).paced());
+  EXPECT_TRUE(Writer<CameraFrame>(p).paced());
+  EXPECT_FALSE(Writer<ForceFeedback>(p).paced());
+  Writer<DeformedMesh> w(p);
+  EXPECT_TRUE(w.caught_up()) << "nothing written, nothing to acknowledge";
+  Participant q(kDomain, "unit_unpaced");
+  EXPECT_FALSE(Writer<DeformedMesh>(q).paced());
+}
+
 }  // namespace
 }  // namespace hcosim::services::runtime
