@@ -231,6 +231,12 @@ Row rtt_row(const std::string& impl, const Rtt& r) {
 
 // Round trips from this thread against an hcosim peer; with `hosts`, this
 // thread on host 0 and the peer on host 1, each with the rig's network.
+// Adds to `ours` its p50 and p99 (its first two metrics) over `bare`'s.
+void add_ratios(Row& ours, const Row& bare) {
+  ours.metrics.push_back({"p50_ratio_to_bare", ours.metrics[0].second / bare.metrics[0].second});
+  ours.metrics.push_back({"p99_ratio_to_bare", ours.metrics[1].second / bare.metrics[1].second});
+}
+
 Rtt hcosim_rtt(int domain, double seconds, const Hosts* hosts = nullptr) {
   const pid_t peer = hosts ? start_peer("hcosim", domain, seconds, 0, hosts->exec(1), rig_args(*hosts, 1))
                            : start_peer("hcosim", domain, seconds);
@@ -524,9 +530,7 @@ std::vector<Row> dds_rows(const Context& c) {
   rows.push_back(rtt_row("bare", bare_rtt(c.domain, seconds)));
   progress("dds rtt hcosim runtime, " + std::to_string(int(seconds)) + " s at 1 kHz");
   rows.push_back(rtt_row("hcosim", hcosim_rtt(c.domain, seconds)));
-  const double bare_p50 = rows[0].metrics[0].second, bare_p99 = rows[0].metrics[1].second;
-  rows[1].metrics.push_back({"p50_ratio_to_bare", rows[1].metrics[0].second / bare_p50});
-  rows[1].metrics.push_back({"p99_ratio_to_bare", rows[1].metrics[1].second / bare_p99});
+  add_ratios(rows[1], rows[0]);
 
   // Rounds alternate which impl goes first, so that a machine growing
   // busier or quieter during a configuration favours neither.
@@ -545,8 +549,7 @@ std::vector<Row> dds_rows(const Context& c) {
         }
       const Row bare = mesh_row("bare", vertices, readers, bare_t);
       Row ours = mesh_row("hcosim", vertices, readers, ours_t);
-      ours.metrics.push_back({"p50_ratio_to_bare", ours.metrics[0].second / bare.metrics[0].second});
-      ours.metrics.push_back({"p99_ratio_to_bare", ours.metrics[1].second / bare.metrics[1].second});
+      add_ratios(ours, bare);
       rows.push_back(bare);
       rows.push_back(ours);
     }
@@ -677,6 +680,17 @@ namespace {
 
 // ---- between hosts
 
+// Appends `bare` and `ours` (with its ratios) to `rows` as rows `name`
+// over `hosts` hosts.
+void between_hosts(std::vector<Row>& rows, const char* name, int hosts, Row bare, Row ours) {
+  add_ratios(ours, bare);
+  for (Row* r : {&bare, &ours}) {
+    r->name = name;
+    r->params.push_back({"hosts", double(hosts)});
+    rows.push_back(std::move(*r));
+  }
+}
+
 // The same round trips and meshes between hosts made of network namespaces
 // (Hosts), over UDP on their bridge: this process's side on host 0 (a
 // thread of its own moves there), the round trips' peer on host 1, one
@@ -700,14 +714,8 @@ std::vector<Row> hosts_rows(const Context& c, double seconds, int count, int rou
       Row bare = rtt_row("bare", bare_ping(c.domain, seconds));
       stop_peer(bare_peer);
       progress("dds rtt_hosts hcosim runtime, " + s + " s at 1 kHz, " + hosts->address(0) + " to " + hosts->address(1));
-      Row ours = rtt_row("hcosim", hcosim_rtt(c.domain, seconds, hosts.get()));
-      ours.metrics.push_back({"p50_ratio_to_bare", ours.metrics[0].second / bare.metrics[0].second});
-      ours.metrics.push_back({"p99_ratio_to_bare", ours.metrics[1].second / bare.metrics[1].second});
-      for (Row* r : {&bare, &ours}) {
-        r->name = "rtt_hosts";
-        r->params.push_back({"hosts", 2.0});
-        rows.push_back(std::move(*r));
-      }
+      between_hosts(rows, "rtt_hosts", 2, std::move(bare),
+                    rtt_row("hcosim", hcosim_rtt(c.domain, seconds, hosts.get())));
       const int vertices = 100000, readers = 2;
       MeshTotals bare_t, ours_t;
       for (int round = 0; round < rounds; ++round)
@@ -719,15 +727,8 @@ std::vector<Row> hosts_rows(const Context& c, double seconds, int count, int rou
                    " of " + std::to_string(rounds) + ", " + std::to_string(count) + " samples at 60 Hz");
           mesh_round(c, impl, vertices, readers, count, round, is_bare ? bare_t : ours_t, hosts.get());
         }
-      Row mbare = mesh_row("bare", vertices, readers, bare_t);
-      Row mours = mesh_row("hcosim", vertices, readers, ours_t);
-      mours.metrics.push_back({"p50_ratio_to_bare", mours.metrics[0].second / mbare.metrics[0].second});
-      mours.metrics.push_back({"p99_ratio_to_bare", mours.metrics[1].second / mbare.metrics[1].second});
-      for (Row* r : {&mbare, &mours}) {
-        r->name = "mesh_hosts";
-        r->params.push_back({"hosts", 3.0});
-        rows.push_back(std::move(*r));
-      }
+      between_hosts(rows, "mesh_hosts", 3, mesh_row("bare", vertices, readers, bare_t),
+                    mesh_row("hcosim", vertices, readers, ours_t));
     } catch (...) {
       error = std::current_exception();
     }

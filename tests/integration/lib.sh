@@ -107,16 +107,16 @@ actions:
 YAML
 }
 
-# sheet_tour HOLD [FILE]: $WORK/FILE (tour.yaml), the virtual user moving
-# from above the middle to a sheet centred at [0.03, 0, 0.02] (device
-# centre [0, 0, 0.02]), pressing it 8 mm deep, holding HOLD s, and waiting
-# above it
+# sheet_tour HOLD [FILE [TO DEPTH]]: $WORK/FILE (tour.yaml), the virtual
+# user moving from above the middle to a sheet centred at [0.03, 0, 0.02]
+# (device centre [0, 0, 0.02]), pressing it 8 mm deep, holding HOLD s, and
+# waiting above it; or to TO (as [x, y, z]), pressing DEPTH m
 sheet_tour() {
   cat >"$WORK/${2:-tour.yaml}" <<YAML
 start: [0, 0, 0.05]
 actions:
-  - move_to: {to: [0.03, 0, 0.024], speed: 0.05}
-  - press: {depth: 0.008, speed: 0.01}
+  - move_to: {to: ${3:-[0.03, 0, 0.024]}, speed: 0.05}
+  - press: {depth: ${4:-0.008}, speed: 0.01}
   - hold: {duration: $1}
   - release: {speed: 0.02}
   - hold: {duration: 20}

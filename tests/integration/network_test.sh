@@ -215,15 +215,7 @@ echo "network_test: lockstep over peers: $(wc -l <"$WORK/DeformedMesh.one.jsonl"
 # link cannot take yet is dropped and counted: the device's answers stay
 # in tick. (Without it, here, no tick was: every answer queued behind
 # mesh fragments.)
-cat >"$WORK/cube_tour.yaml" <<YAML
-start: [0, 0, 0.05]
-actions:
-  - move_to: {to: [0.03, 0, 0.038], speed: 0.05}
-  - press: {depth: 0.006, speed: 0.01}
-  - hold: {duration: 3}
-  - release: {speed: 0.02}
-  - hold: {duration: 20}
-YAML
+sheet_tour 3 cube_tour.yaml "[0.03, 0, 0.038]" 0.006
 deployment slow.yaml <<YAML
 mode: realtime
 duration: 7
