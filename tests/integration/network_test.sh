@@ -213,8 +213,8 @@ echo "network_test: lockstep over peers: $(wc -l <"$WORK/DeformedMesh.one.jsonl"
 # under the hybrid cube's meshes (about 30 Mbit/s) that the device's up
 # records across it. With bulk_mbit 2 the meshes go paced and a frame the
 # link cannot take yet is dropped and counted: the device's answers stay
-# in tick. (Without it, here, no tick was: every answer queued behind
-# mesh fragments.)
+# in tick. (Without it, by hand here: no tick was, every answer queued
+# behind mesh fragments, round trip p50 146 ms.)
 sheet_tour 3 cube_tour.yaml "[0.03, 0, 0.038]" 0.006
 deployment slow.yaml <<YAML
 mode: realtime
@@ -242,9 +242,13 @@ if ! ip netns exec "$(ns_of sim)" tc qdisc add dev eth0 root tbf rate 10mbit bur
 fi
 split slow.yaml slow 60 --record "$WORK/slow.rec" || fail "slow link: up --host device exited $?"
 in_tick=$(jq -r .on_time_ratio "$WORK/omni.json")
+rtt=$(sed -nE 's/^omni: .* round trip p50 ([0-9.]+) us .*/\1/p' "$WORK/slow_device/logs/omni.log")
 link=$(ip netns exec "$(ns_of sim)" tc -s qdisc show dev eth0 | awk '/Sent/ { print $2 " bytes, " $4 " packets, dropped " $7 }')
-awk -v r="$in_tick" 'BEGIN { exit !(r >= 0.9) }' ||
-  fail "slow link: only $in_tick of the device's ticks answered in time (link: $link; $(grep -h 'round trip' "$WORK/slow_device/logs/omni.log"))"
+# Answers that queue behind meshes take tens of ms, every one of them; the
+# share in tick also moves with this machine's load (0.77 to 0.98 in full
+# ctest runs and alone), so it is bounded loosely and the median tightly.
+awk -v r="$in_tick" -v p="${rtt:-1e9}" 'BEGIN { exit !(r >= 0.5 && p < 1000) }' ||
+  fail "slow link: $in_tick of the device's ticks answered in time, round trip p50 ${rtt:-?} us (link: $link; $(grep -h 'round trip' "$WORK/slow_device/logs/omni.log"))"
 awk -v p="$(felt)" 'BEGIN { exit !(p > 0.05) }' || fail "slow link: the device felt $(felt) N of the cube"
 "$BIN/hcosim" export "$WORK/slow.rec" --topic DeformedMesh >"$WORK/slow_meshes.jsonl" 2>"$WORK/export.log" ||
   fail "export: $(cat "$WORK/export.log")"
@@ -252,5 +256,5 @@ got=$(wc -l <"$WORK/slow_meshes.jsonl")
 shed=$(sed -nE 's/.*, ([0-9]+) shed \(link busy, network bulk_mbit\)$/\1/p' "$WORK/slow_sim/logs/objects.log")
 [ "${shed:-0}" -gt 0 ] || fail "slow link: no mesh frame dropped for the link: $(tail -n 3 "$WORK/slow_sim/logs/objects.log")"
 [ "$got" -ge 10 ] || fail "slow link: only $got meshes crossed it"
-echo "network_test: slow link (10 Mbit/s, bulk_mbit 2): $in_tick of ticks in time, $got meshes crossed, $shed frames dropped and counted"
+echo "network_test: slow link (10 Mbit/s, bulk_mbit 2): $in_tick of ticks in time, round trip p50 $rtt us, $got meshes crossed, $shed frames dropped and counted"
 echo "network_test: ok"
