@@ -19,18 +19,13 @@ bool sh(const std::string& command, const fs::path& log) {
   return std::system((command + " >>'" + log.string() + "' 2>&1").c_str()) == 0;
 }
 
+// The last non-empty line of `file`: what a failed command said.
 std::string last_line(const fs::path& file) {
-  std::FILE* f = std::fopen(file.c_str(), "r");
-  std::string last, line;
-  for (int c; f && (c = std::fgetc(f)) != EOF;)
-    if (c == '\n') {
-      if (!line.empty()) last = line;
-      line.clear();
-    } else {
-      line += char(c);
-    }
-  if (f) std::fclose(f);
-  return line.empty() ? last : line;
+  std::ifstream in(file);
+  std::string last;
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty()) last = line;
+  return last;
 }
 
 }  // namespace
