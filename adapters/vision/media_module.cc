@@ -90,9 +90,10 @@ class Capture : public Source {
   std::uint64_t next_ = 0;
 };
 
-}  // namespace
-
-// The module's entry points (media_module.h).
+// The module's entry points (media_module.h), reached only through
+// hcosim_media_api(): of internal linkage, so that a same-named function of
+// the executable that loaded the module (exported by services/ for its
+// stacks) can never stand in for them.
 
 Source* capture_folder(const std::string& path) {
   std::error_code ec;
@@ -178,6 +179,7 @@ void write_video_out(void* video, const cv::Mat& frame) { static_cast<cv::VideoW
 
 void close_video_out(void* video) { delete static_cast<cv::VideoWriter*>(video); }
 
+}  // namespace
 }  // namespace hcosim::adapters::vision
 
 extern "C" const hcosim::adapters::vision::MediaApi* hcosim_media_api() {

@@ -1,5 +1,10 @@
 #include "services/runtime/service.h"
 
+#include <dirent.h>
+#include <execinfo.h>
+#include <pthread.h>
+#include <semaphore.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 #include <algorithm>
 #include <atomic>
@@ -10,6 +15,7 @@
 #include <cstring>
 #include <ctime>
 #include <iostream>
+#include <mutex>
 #include <stdexcept>
 #include <thread>
 
@@ -19,13 +25,75 @@ namespace hcosim::services::runtime {
 namespace {
 
 std::atomic<bool> g_stop{false};
+sem_t g_stop_sem;  // posted once, on the first stop request
 
-void on_signal(int) { g_stop = true; }
+void on_signal(int) {
+  if (!g_stop.exchange(true)) sem_post(&g_stop_sem);
+}
+
+// A service still running this long after its stop request prints every
+// thread's stack: hcosim up kills it at Supervisor::kStopGraceS (2 s), and
+// the log is then the only trace of where its stop hung.
+constexpr auto kSlowStop = std::chrono::milliseconds(1500);
+constexpr int kStackDepth = 32;
+std::atomic<bool> g_stack_done{false};
+
+// SIGUSR2's handler: this thread's stack, on stderr. backtrace_symbols_fd
+// allocates nothing, and backtrace() was called once beforehand so that
+// it loads nothing here either.
+void on_stack_request(int) {
+  void* frames[kStackDepth];
+  backtrace_symbols_fd(frames, backtrace(frames, kStackDepth), STDERR_FILENO);
+  g_stack_done = true;
+}
+
+void print_stacks_if_slow(std::string name) {
+  while (sem_wait(&g_stop_sem) != 0) {
+  }
+  std::this_thread::sleep_for(kSlowStop);
+  std::fprintf(stderr, "%s: still running %lld ms after its stop request; its threads' stacks:\n", name.c_str(),
+               (long long)kSlowStop.count());
+  const pid_t self = pid_t(syscall(SYS_gettid));
+  DIR* tasks = opendir("/proc/self/task");
+  while (dirent* e = tasks ? readdir(tasks) : nullptr) {
+    const pid_t tid = std::atoi(e->d_name);
+    if (tid <= 0 || tid == self) continue;
+    char comm[64] = "?";
+    if (FILE* f = std::fopen(("/proc/self/task/" + std::to_string(tid) + "/comm").c_str(), "r")) {
+      if (std::fscanf(f, "%63s", comm) != 1) comm[0] = 0;
+      std::fclose(f);
+    }
+    std::fprintf(stderr, "--- thread %d (%s)%s\n", tid, comm, tid == getpid() ? ", the main thread" : "");
+    std::fflush(stderr);
+    // One thread at a time, so that stacks do not interleave.
+    g_stack_done = false;
+    if (syscall(SYS_tgkill, getpid(), tid, SIGUSR2) != 0) continue;
+    for (int i = 0; i < 100 && !g_stack_done; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  if (tasks) closedir(tasks);
+}
+
+// Once per process: the thread that waits for a stop request to be slow.
+void watch_stop(const std::string& name) {
+  static std::once_flag once;
+  std::call_once(once, [&] {
+    void* warm[1];
+    backtrace(warm, 1);
+    struct sigaction sa {};
+    sa.sa_handler = on_stack_request;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESTART;
+    sigaction(SIGUSR2, &sa, nullptr);
+    std::thread(print_stacks_if_slow, name).detach();
+  });
+}
 
 }  // namespace
 
 // Without SA_RESTART, so that sleeps and waits return early on a signal.
 void install_stop_handlers() {
+  static std::once_flag once;
+  std::call_once(once, [] { sem_init(&g_stop_sem, 0, 0); });
   struct sigaction sa {};
   sa.sa_handler = on_signal;
   sigemptyset(&sa.sa_mask);
@@ -86,6 +154,9 @@ std::int64_t wall_ns() {
 
 int service_main(const char* program, const char* what, int argc, char** argv,
                  const std::function<int(const Options&)>& run) {
+  // Line by line: a log shows a service's last words even when it is
+  // killed after them (a stop that hung, above).
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   Options o;
   CLI::App app(what, program);
   use_hcosim_help(app);
@@ -133,6 +204,7 @@ Service::Service(Options options)
       params_(params_of(deployment_, options_.name)),
       status_(participant_) {
   install_stop_handlers();
+  watch_stop(options_.name);
   std::printf("%s: scheduling: %s\n", options_.name.c_str(), scheduling_.c_str());
   std::fflush(stdout);
   heartbeat(0, 0, Phase::kStarting);

@@ -11,7 +11,7 @@
 //   mesh   : publishes a DeformedMesh of `vertices` vertices and its topology.
 // fail_after S makes any role exit with status 3 after S seconds;
 // start_delay S makes it wait S seconds before its loop, as a service
-// building its model does.
+// building its model does; stop_delay S, after it, as a stop that hangs.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -149,7 +149,8 @@ struct Probe {
 int run(Options o) {
   Service svc(o);
   const adapters::Config& p = svc.params();
-  p.allow_only({"role", "nan_every", "fail_after", "vertices", "stiffness", "profile", "start_delay", "delay"});
+  p.allow_only(
+      {"role", "nan_every", "fail_after", "vertices", "stiffness", "profile", "start_delay", "delay", "stop_delay"});
   const std::string role = p.text("role", "source", {"source", "wall", "camera", "mesh"});
   std::this_thread::sleep_for(std::chrono::duration<double>(p.number("start_delay", 0, 0, 60)));
   Probe probe{svc,
@@ -165,6 +166,7 @@ int run(Options o) {
   std::printf("probe %s: role %s, steps %llu, sent %llu, answers %llu\n", o.name.c_str(), role.c_str(),
               static_cast<unsigned long long>(probe.steps), static_cast<unsigned long long>(probe.sent),
               static_cast<unsigned long long>(probe.answers));
+  std::this_thread::sleep_for(std::chrono::duration<double>(p.number("stop_delay", 0, 0, 60)));
   return code;
 }
 
