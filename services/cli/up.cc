@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -20,6 +21,7 @@
 #include "services/cli/watcher.h"
 #include "services/foxglove/scene.h"
 #include "services/runtime/recording.h"
+#include "services/runtime/recordings.h"
 #include "services/runtime/service.h"
 
 namespace fs = std::filesystem;
@@ -176,7 +178,10 @@ int up(const UpOptions& o) {
   // readers are there when their writers appear. Owned, so that it is gone
   // before the shared-memory clean at the end: a dead process's ports that
   // it holds open would stay behind.
-  auto participant = std::make_unique<runtime::Participant>(d.domain, "hcosim_up", runtime::default_qos_file(),
+  // Recording, it says so by its name: lockstep followers wait for their
+  // writers to reach it before their first step (runtime/recordings.h).
+  const char* participant_name = o.record.empty() ? runtime::kUpParticipant : runtime::kRecordingParticipant;
+  auto participant = std::make_unique<runtime::Participant>(d.domain, participant_name, runtime::default_qos_file(),
                                                             &discovered, false, security, network);
   // In lockstep the recorder's readers are reliable: the services wait for
   // them too, so a recording holds every sample.
@@ -191,6 +196,16 @@ int up(const UpOptions& o) {
                                                    runtime::format_of(o.record), runtime::McapCompression::zstd,
                                                    foxglove::scene_channels(foxglove::scene_items(d), scene));
   }
+  // How many hcosim ups this run has, one a host that runs something: a
+  // lockstep follower hears them all before its first step, to know every
+  // recording (runtime/recordings.h).
+  std::set<std::string> hosts;
+  if (!o.host.empty()) {
+    for (const auto& s : d.services)
+      if (s.unneeded.empty()) hosts.insert(s.host);
+    if (d.mode == runtime::Mode::kLockstep) hosts.insert(d.clock_host);
+  }
+  setenv("HCOSIM_UPS", std::to_string(o.host.empty() ? 1 : hosts.size()).c_str(), 1);
   Supervisor supervisor(logs, d.mode);
   for (const Child& c : children)
     std::printf("  started %-16s pid %-7d %s\n", c.name.c_str(), int(supervisor.start(c)), c.exe.c_str());

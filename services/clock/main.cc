@@ -95,6 +95,7 @@ int run_clock(Options options) {
     while (!waiting.empty()) {
       if (stop_requested()) {
         std::printf("clock: stopped at step %llu\n", static_cast<unsigned long long>(k));
+        svc.settle();
         return 0;
       }
       if (mono_ns() > deadline) {
@@ -115,6 +116,7 @@ int run_clock(Options options) {
   const double sim_s = double(k + 1) * options.step_s;
   std::printf("clock: %llu steps, %.3f s simulated in %.3f s wall (real-time factor %.2f), %zu followers\n",
               static_cast<unsigned long long>(k + 1), sim_s, wall_s, sim_s / wall_s, n);
+  svc.settle();
   return 0;
 }
 

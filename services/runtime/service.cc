@@ -12,6 +12,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <ctime>
 #include <iostream>
@@ -107,6 +108,9 @@ bool stop_requested() { return g_stop; }
 namespace {
 
 constexpr std::int64_t kHeartbeatNs = 1'000'000'000;
+// How long a lockstep follower waits for a recording to match its
+// writers (matching takes milliseconds; the clock waits 10 s for a step).
+constexpr std::int64_t kRecordingWaitNs = 5'000'000'000;
 
 // Base steps per service step. A lockstep follower steps on whole ticks of
 // the clock; in real time the period is the rate's own and this only
@@ -199,7 +203,7 @@ Service::Service(Options options)
       period_steps_(steps_per_period(options_)),
       deployment_(options_.deployment.empty() ? Deployment{} : load_deployment(options_.deployment)),
       scheduling_(schedule(options_)),
-      participant_(options_.domain, options_.name, options_.qos_file, nullptr, options_.mode == Mode::kLockstep,
+      participant_(options_.domain, options_.name, options_.qos_file, &recordings_, options_.mode == Mode::kLockstep,
                    Security{deployment_.security, options_.name}, network_of(deployment_, options_.host)),
       params_(params_of(deployment_, options_.name)),
       status_(participant_) {
@@ -270,8 +274,11 @@ void Service::heartbeat(std::int64_t sim_time_ns, std::uint64_t step, Phase phas
 int Service::run(const std::function<void(const Tick&)>& step) {
   const int code = options_.mode == Mode::kLockstep ? run_lockstep(step) : run_realtime(step);
   heartbeat(std::int64_t(steps_ * period_steps_ * options_.step_s * 1e9), steps_ * period_steps_, Phase::kStopping);
+  settle();
   return code;
 }
+
+void Service::settle() { participant_.publisher()->wait_for_acknowledgments(to_dds(std::chrono::milliseconds(500))); }
 
 int Service::run_realtime(const std::function<void(const Tick&)>& step) {
   const std::int64_t period_ns = std::llround(1e9 / options_.rate_hz);
@@ -314,6 +321,33 @@ bool acknowledged(Wait&& wait) {
   return false;
 }
 
+// Before the first step: every hcosim up of the run heard ($HCOSIM_UPS,
+// set by up), then every writer reaching each of them that records, so
+// that the run's recording holds each writer's samples from step 0.
+void Service::wait_for_recordings() {
+  const char* env = std::getenv("HCOSIM_UPS");
+  const int ups = env ? std::atoi(env) : 0;
+  const std::int64_t deadline = mono_ns() + kRecordingWaitNs;
+  std::vector<std::string> left;
+  const auto ready = [&] {
+    if (recordings_.ups() < ups) return false;
+    left = unreached(participant_, recordings_.prefixes());
+    return left.empty();
+  };
+  while (!g_stop && !ready() && mono_ns() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  if (g_stop || ready()) return;
+  const long long waited_s = kRecordingWaitNs / 1'000'000'000;
+  if (recordings_.ups() < ups) {
+    std::cerr << options_.name << ": heard " << recordings_.ups() << " of the run's " << ups << " hcosim up after "
+              << waited_s << " s; a recording by another may lack this service's first steps\n";
+    return;
+  }
+  std::string topics;
+  for (const std::string& t : left) topics += (topics.empty() ? "" : ", ") + t;
+  std::cerr << options_.name << ": the recording has not matched this service's writers of " << topics << " after "
+            << waited_s << " s; it may lack their first steps\n";
+}
+
 int Service::run_lockstep(const std::function<void(const Tick&)>& step) {
   Reader<ClockTick> ticks(
       participant_, [](const ClockTick& t) { return adapters::validate(t); }, &rejections_);
@@ -332,6 +366,7 @@ int Service::run_lockstep(const std::function<void(const Tick&)>& step) {
         code = 1;
         return;
       }
+      if (t.step() == 0) wait_for_recordings();
       const std::int64_t t0 = mono_ns();
       sim_ns = t.sim_time_ns();
       if (t.step() % period_steps_ == 0) {

@@ -14,6 +14,7 @@
 #include "services/runtime/endpoint.h"
 #include "services/runtime/participant.h"
 #include "services/runtime/realtime.h"
+#include "services/runtime/recordings.h"
 #include "services/runtime/stats.h"
 
 namespace hcosim::services::runtime {
@@ -101,6 +102,14 @@ class Service {
   // duration, or the master's last tick. Returns the process exit status.
   int run(const std::function<void(const Tick&)>& step);
 
+  // Waits (0.5 s at most) until every writer of the participant has its
+  // samples acknowledged, so that the writers can be deleted safely: Fast
+  // DDS 2.9.1 can loop forever deleting a writer whose periodic heartbeat,
+  // active while samples are unacknowledged, fires meanwhile (fixed in
+  // 2.10, eProsima/Fast-DDS#4076; a lockstep writer's heartbeat comes every
+  // 0.1 ms). run() ends with it; a service with its own loop calls it last.
+  void settle();
+
   // Ends a real-time run after the current step (e.g. a video that has
   // run out). A lockstep follower cannot leave early: it runs on to the
   // master's last tick.
@@ -123,11 +132,13 @@ class Service {
  private:
   int run_realtime(const std::function<void(const Tick&)>& step);
   int run_lockstep(const std::function<void(const Tick&)>& step);
+  void wait_for_recordings();
 
   Options options_;
   std::uint64_t period_steps_;  // base steps per service step
   Deployment deployment_;       // --deployment's file (empty without one)
   std::string scheduling_;      // before the participant, whose threads inherit it
+  Recordings recordings_;       // the participant's discovery listener
   Participant participant_;
   adapters::Config params_;
   Writer<ServiceStatus> status_;

@@ -6,10 +6,7 @@
 #    up (its report's peak force), and each up starts only its services.
 # 2. Lockstep with the clock on `sim`: the run recorded on `device` exports
 #    the same HapticState, ForceFeedback and DeformedMesh, bit for bit, as
-#    the same file run by one `hcosim up` without --host, from step 200 on:
-#    a recorder may miss a writer's first steps, matched after the clock
-#    started (one run in five here lost the cube's first 33 ForceFeedback,
-#    on one host as on two; a defect of --record in lockstep, open).
+#    the same file run by one `hcosim up` without --host, from step 0.
 # 3. --host naming a host the file lacks is refused at the file's hosts
 #    list, before anything starts.
 source "$(dirname "$0")/lib.sh"
@@ -66,7 +63,7 @@ grep -q "lockstep run complete (the clock runs on another host)" "$WORK/ls_devic
   fail "the device's host did not complete: $(tail -n 3 "$WORK/ls_device.log")"
 limit 120 "$BIN/hcosim" up "$WORK/ls.yaml" --record "$WORK/one.rec" --out "$WORK/ls_one" >"$WORK/ls_one.log" 2>&1 ||
   fail "lockstep up on one host exited $?"
-same_from_step_200 split one
+same_recordings split one
 echo "hosts_test: lockstep: $(wc -l <"$WORK/HapticState.one.jsonl") states, $(wc -l <"$WORK/DeformedMesh.one.jsonl") meshes identical on two ups and on one"
 
 # 3. A host the file lacks.

@@ -24,7 +24,12 @@ trap cleanup EXIT
 fail() {
   echo "FAIL: $*" >&2
   for f in "$WORK"/*.log "$WORK"/*/logs/*.log; do
-    [ -f "$f" ] && { echo "--- $f" >&2; tail -n 20 "$f" >&2; }
+    [ -f "$f" ] || continue
+    echo "--- $f" >&2
+    # A stop that hung: where the main thread was (runtime/service.cc).
+    grep -q "still running .* after its stop request" "$f" &&
+      sed -n '/still running .* after its stop request/,/the main thread$/p; /the main thread$/,/^--- thread/p' "$f" >&2
+    tail -n 20 "$f" >&2
   done
   exit 1
 }
@@ -123,23 +128,27 @@ actions:
 YAML
 }
 
-# same_from_step_200 SPLIT ONE: fails unless the recordings $WORK/SPLIT.rec
-# and $WORK/ONE.rec export the same HapticState, ForceFeedback and
-# DeformedMesh, bit for bit, from step 200 on (a lockstep recording may
-# miss a writer's first steps, matched after the clock started: an open
-# defect of --record), and the press reached the sheet; leaves
-# $WORK/TOPIC.ONE.jsonl
-same_from_step_200() {
-  local t run
-  for t in HapticState ForceFeedback DeformedMesh; do
-    for run in "$1" "$2"; do
-      "$BIN/hcosim" export "$WORK/$run.rec" --topic $t 2>/dev/null | grep -vE '"step":(1?[0-9]?[0-9]),' \
-        >"$WORK/$t.$run.jsonl" || fail "export $t of $run: nothing from step 200 on"
+# same_recordings SPLIT ONE [TOPIC...]: fails unless the recordings
+# $WORK/SPLIT.rec and $WORK/ONE.rec export the same HapticState,
+# ForceFeedback, DeformedMesh and TOPICs, bit for bit, each from step 0
+# (every writer reaches the recording before its first step:
+# runtime/recordings.h), and the stylus touched something; leaves
+# $WORK/TOPIC.ONE.jsonl. MarkerPose's latency_ms, a wall-clock
+# measurement, is left out.
+same_recordings() {
+  local t run first split=$1 one=$2
+  shift 2
+  for t in HapticState ForceFeedback DeformedMesh "$@"; do
+    for run in "$split" "$one"; do
+      "$BIN/hcosim" export "$WORK/$run.rec" --topic $t >"$WORK/$t.$run.raw" 2>/dev/null || fail "export $t of $run"
+      sed -E 's/,"latency_ms":[^,}]*//' "$WORK/$t.$run.raw" >"$WORK/$t.$run.jsonl"
+      first=$(head -n 1 "$WORK/$t.$run.jsonl" | grep -oE '"step":[0-9]+' | head -n 1)
+      [ "$first" = '"step":0' ] || fail "$run.rec's first $t is not of step 0 but ${first:-none}"
     done
-    cmp -s "$WORK/$t.$1.jsonl" "$WORK/$t.$2.jsonl" ||
-      fail "$t differs between $1.rec and $2.rec from line $(cmp "$WORK/$t.$1.jsonl" "$WORK/$t.$2.jsonl" | awk '{ print $NF }')"
+    cmp -s "$WORK/$t.$split.jsonl" "$WORK/$t.$one.jsonl" ||
+      fail "$t differs between $split.rec and $one.rec from line $(cmp "$WORK/$t.$split.jsonl" "$WORK/$t.$one.jsonl" | awk '{ print $NF }')"
   done
-  grep -q '"in_contact":true' "$WORK/ForceFeedback.$2.jsonl" || fail "the lockstep press never reached the sheet"
+  grep -q '"in_contact":true' "$WORK/ForceFeedback.$one.jsonl" || fail "the lockstep run never touched anything"
 }
 
 # shm_segments: Fast DDS's shared-memory segments in /dev/shm (data and
@@ -175,4 +184,61 @@ running_then_bare() {
 # 0.99 + MARGIN, at least BARE less MARGIN (default 0.01).
 within_bare() {
   awk -v r="$1" -v b="$BARE" -v m="${2:-0.01}" 'BEGIN { bound = b - m < 0.99 ? b - m : 0.99; exit !(r >= bound) }'
+}
+
+# Hosts made of Linux network namespaces (integration.network,
+# integration.rig): make_hosts NAME... makes one namespace per NAME, each
+# with a veth on one bridge and the address $NET.1, $NET.2, ... in that
+# order, or exits 77 (skipped, saying why) where this machine cannot;
+# everything it makes goes at exit. on_host HOST COMMAND... runs COMMAND
+# in HOST's namespace with a /dev/shm of HOST's own.
+HOSTS=()
+TAG=$((DOMAIN % 1000))
+BRIDGE=hcbr$TAG
+NET=10.$((100 + DOMAIN % 100)).0
+ns_of() { echo "hc${TAG}$1"; }
+# What make_hosts made, with what runs inside; also a killed run's left-overs.
+hosts_down() {
+  local h p
+  for h in "${HOSTS[@]}" probe; do
+    for p in $(ip netns pids "$(ns_of "$h")" 2>/dev/null); do kill -KILL "$p" 2>/dev/null; done
+    ip netns del "$(ns_of "$h")" 2>/dev/null
+  done
+  ip link del "$BRIDGE" 2>/dev/null
+}
+# Whether this machine lets a test make hosts: a namespace, a veth pair and
+# a bridge, and a folder mounted as a namespace's /dev/shm.
+can_make_hosts() {
+  [ "$(id -u)" = 0 ] && command -v ip >/dev/null && command -v bridge >/dev/null &&
+    ip netns add "$(ns_of probe)" && ip link add "$BRIDGE" type bridge &&
+    ip link add "$(ns_of probe)" type veth peer name eth0 netns "$(ns_of probe)" &&
+    mkdir -p "$WORK/shm_probe" &&
+    ip netns exec "$(ns_of probe)" sh -c 'mount --bind "$0" /dev/shm' "$WORK/shm_probe"
+}
+make_hosts() {
+  local test h ns i=0
+  test=$(basename "$0" .sh)
+  HOSTS=("$@")
+  trap 'hosts_down; cleanup' EXIT
+  hosts_down
+  if ! can_make_hosts >"$WORK/can.log" 2>&1; then
+    echo "$test: SKIPPED: cannot make network namespaces here (needs root, iproute2's ip and bridge," \
+      "veth and bridge links, and mounts): $(tail -n 1 "$WORK/can.log")"
+    exit 77
+  fi
+  hosts_down
+  ip link add "$BRIDGE" type bridge && ip link set "$BRIDGE" up || fail "cannot make bridge $BRIDGE"
+  for h in "$@"; do
+    i=$((i + 1))
+    ns=$(ns_of "$h")
+    ip netns add "$ns" && ip link add "$ns" type veth peer name eth0 netns "$ns" &&
+      ip link set "$ns" master "$BRIDGE" up && ip netns exec "$ns" ip addr add "$NET.$i/24" dev eth0 &&
+      ip netns exec "$ns" ip link set eth0 up && ip netns exec "$ns" ip link set lo up || fail "cannot make host $h"
+  done
+}
+on_host() {
+  local h=$1
+  shift
+  mkdir -p "$WORK/shm_$h"
+  ip netns exec "$(ns_of "$h")" sh -c 'mount --bind "$0" /dev/shm && exec "$@"' "$WORK/shm_$h" "$@"
 }
