@@ -19,58 +19,13 @@
 #    coming back.
 # 4. Lockstep with the clock on `sim`, over peers: the run recorded on
 #    `device` exports the same states, forces and meshes, bit for bit from
-#    step 200 (see integration.hosts), as the same file run on one host.
+#    step 0, as the same file run on one host.
 # 5. A slow link (tc tbf, 10 Mbit/s) under meshes, paced by the network's
 #    bulk_mbit: the device's ticks stay in time, the frames the link cannot
 #    take are dropped and counted.
 # Skipped (status 77) where namespaces cannot be made (not root, no ip).
 source "$(dirname "$0")/lib.sh"
-tag=$((DOMAIN % 1000))
-br=hcbr$tag
-net=10.$((100 + DOMAIN % 100)).0
-ns_of() { echo "hc${tag}$1"; }
-# What this test makes, with what runs inside; also a killed run's left-overs.
-net_down() {
-  for h in device sim probe; do
-    for p in $(ip netns pids "$(ns_of $h)" 2>/dev/null); do kill -KILL "$p" 2>/dev/null; done
-    ip netns del "$(ns_of $h)" 2>/dev/null
-  done
-  ip link del "$br" 2>/dev/null
-}
-trap 'net_down; cleanup' EXIT
-# Whether this machine lets the test make its hosts: a namespace, a veth
-# pair and a bridge, and a folder mounted as a namespace's /dev/shm.
-can_make_hosts() {
-  [ "$(id -u)" = 0 ] && command -v ip >/dev/null && command -v bridge >/dev/null &&
-    ip netns add "$(ns_of probe)" && ip link add "$br" type bridge &&
-    ip link add "$(ns_of probe)" type veth peer name eth0 netns "$(ns_of probe)" &&
-    mkdir -p "$WORK/shm_probe" &&
-    ip netns exec "$(ns_of probe)" sh -c 'mount --bind "$0" /dev/shm' "$WORK/shm_probe"
-}
-net_down  # a killed run's left-overs first
-if ! can_make_hosts >"$WORK/can.log" 2>&1; then
-  echo "network_test: SKIPPED: cannot make network namespaces here (needs root, iproute2's ip and bridge," \
-    "veth and bridge links, and mounts): $(tail -n 1 "$WORK/can.log")"
-  exit 77
-fi
-net_down
-ip link add "$br" type bridge && ip link set "$br" up || fail "cannot make bridge $br"
-i=0
-for h in device sim; do
-  i=$((i + 1))
-  ns=$(ns_of $h)
-  ip netns add "$ns" && ip link add "$ns" type veth peer name eth0 netns "$ns" &&
-    ip link set "$ns" master "$br" up && ip netns exec "$ns" ip addr add "$net.$i/24" dev eth0 &&
-    ip netns exec "$ns" ip link set eth0 up && ip netns exec "$ns" ip link set lo up || fail "cannot make host $h"
-done
-# on_host HOST COMMAND...: COMMAND in HOST's namespace, with HOST's /dev/shm
-# (a folder of its own, shared by every process of that host only).
-on_host() {
-  local h=$1
-  shift
-  mkdir -p "$WORK/shm_$h"
-  ip netns exec "$(ns_of "$h")" sh -c 'mount --bind "$0" /dev/shm && exec "$@"' "$WORK/shm_$h" "$@"
-}
+make_hosts device sim
 # multicast on|off: whether the bridge floods multicast between the hosts.
 multicast() { for h in device sim; do bridge link set dev "$(ns_of $h)" mcast_flood "$1" || fail "bridge link set"; done; }
 sheet_tour 1
@@ -81,8 +36,8 @@ mode: $3
 duration: $4
 network: {discovery: $2}
 hosts:
-  - {name: device, address: $net.1}
-  - {name: sim, address: $net.2, clock: on}
+  - {name: device, address: $NET.1}
+  - {name: sim, address: $NET.2, clock: on}
 scene:
   objects:
     - {name: cube, kind: rigid, shape: cube, size: 0.01, mass: 0.05, centre: [-0.03, 0, 0.01]}
@@ -120,8 +75,8 @@ before=$(crossed)
 topics=$!
 split multicast.yaml mc 60 || fail "multicast: up --host device exited $?"
 wait $topics || fail "hcosim topics exited $?: $(cat "$WORK/topics.log")"
-for line in "HapticState +writer +omni +$net.1 +device" "HapticState +reader +bodies +$net.2 +sim" \
-  "ForceFeedback +writer +objects +$net.2 +sim" "ForceFeedback +reader +omni +$net.1 +device"; do
+for line in "HapticState +writer +omni +$NET.1 +device" "HapticState +reader +bodies +$NET.2 +sim" \
+  "ForceFeedback +writer +objects +$NET.2 +sim" "ForceFeedback +reader +omni +$NET.1 +device"; do
   grep -qE "^$line$" "$WORK/topics.log" || fail "hcosim topics does not show '$line': $(cat "$WORK/topics.log")"
 done
 packets=$(($(crossed) - before))
@@ -206,7 +161,7 @@ grep -q "lockstep run complete (the clock runs on another host)" "$WORK/ls_devic
   fail "lockstep: the device's host: $(tail -n 3 "$WORK/ls_device.log")"
 on_host device "$BIN/hcosim" up "$WORK/lockstep.yaml" --record "$WORK/one.rec" --out "$WORK/one" >"$WORK/one.log" 2>&1 ||
   fail "lockstep on one host exited $?"
-same_from_step_200 split one
+same_recordings split one
 echo "network_test: lockstep over peers: $(wc -l <"$WORK/DeformedMesh.one.jsonl") meshes and $(wc -l <"$WORK/ForceFeedback.one.jsonl") forces identical to one host's"
 
 # 5. A slow link: the sim host's egress limited to 10 Mbit/s (tc tbf),
@@ -221,8 +176,8 @@ mode: realtime
 duration: 7
 network: {discovery: peers, bulk_mbit: 2}
 hosts:
-  - {name: device, address: $net.1}
-  - {name: sim, address: $net.2, clock: on}
+  - {name: device, address: $NET.1}
+  - {name: sim, address: $NET.2, clock: on}
 scene: {objects: [{name: cube, kind: deformable, model: hybrid, centre: [0.03, 0, 0.02], size: 0.03}]}
 services:
   - {name: omni, kind: haptic, rate: 1000, host: device, params: {script: cube_tour.yaml, centre: [0, 0, 0.02], report: omni.json}}
