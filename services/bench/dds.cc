@@ -21,11 +21,12 @@
 //   same bytes. Each round starts with warm-up samples, not counted, until
 //   every reader has taken one (startup_ms, the slowest round's) and half
 //   a second more: loss and latency are a running reader's.
-// rtt_hosts, mesh_hosts: the same between hosts made of Linux network
-//   namespaces on one bridge (Hosts; each its own address and /dev/shm, so
-//   UDP only), where this machine can make them: the round trips between
-//   two hosts, 10^5-vertex meshes from one host to a reader on each of two
-//   others. Every participant has the rig's network (a deployment's
+// rtt_hosts, mesh_hosts, frame_hosts: the same between hosts made of
+//   Linux network namespaces on one bridge (Hosts; each its own address
+//   and /dev/shm, so UDP only), where this machine can make them: the round
+//   trips between two hosts, 10^5-vertex meshes from one host to a reader
+//   on each of two others, a camera's 640x480 bgr8 frames at 30 Hz from
+//   one host to a reader on another. Every participant has the rig's network (a deployment's
 //   `network: {}` defaults: its host's address the only UDP interface, 4
 //   MiB socket buffers), bare Fast DDS's mesh endpoints the same buffers
 //   and interface; this process's side runs on a thread moved into the
@@ -282,6 +283,46 @@ DeformedMesh mesh_sample(int vertices) {
   return m;
 }
 
+// The large samples of the suite, each a type's: meshes (mesh_pub,
+// mesh_hosts) and camera frames (frame_hosts). A sample is a warm-up one
+// (counted false: not measured, see ready()) or a counted one.
+template <class T>
+struct Large;
+
+template <>
+struct Large<DeformedMesh> {
+  static constexpr const char* role = "mesh";
+  static constexpr double rate_hz = kMeshRateHz;
+  static DeformedMesh make(int vertices) { return mesh_sample(vertices); }
+  static void vary(DeformedMesh& m, std::uint64_t step) { m.positions()[2] = 1e-4f * float(step % 100); }
+  static void count(DeformedMesh& m, bool counted) { m.topology_version(counted ? 1 : 0); }
+  static bool counted(const DeformedMesh& m) { return m.topology_version() != 0; }
+};
+
+// A camera's 640x480 bgr8 frames at 30 Hz, 921,600 bytes of pixels.
+template <>
+struct Large<CameraFrame> {
+  static constexpr const char* role = "frame";
+  static constexpr double rate_hz = 30;
+  static CameraFrame make(int) {
+    CameraFrame f;
+    f.camera("bench");
+    f.width(640);
+    f.height(480);
+    f.encoding("bgr8");
+    f.fx(500), f.fy(500), f.cx(320), f.cy(240);
+    f.data().assign(640 * 480 * 3, 128);
+    return f;
+  }
+  static void vary(CameraFrame& f, std::uint64_t step) {
+    f.frame(step);
+    f.data()[0] = std::uint8_t(step);
+  }
+  // A frame's warm-up camera name: another instance, unmeasured.
+  static void count(CameraFrame& f, bool counted) { f.camera(counted ? "bench" : "warm-up"); }
+  static bool counted(const CameraFrame& f) { return f.camera().to_string() == "bench"; }
+};
+
 double cpu_s() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
@@ -330,42 +371,43 @@ int ready(const std::vector<fs::path>& files) {
 // counted samples measure a running reader.
 constexpr int kSettleSamples = 30;
 
-// Writes warm-up samples, then `count` counted ones at 60 Hz; the writer's
-// own CPU time over the counted window.
-template <class Matched, class Write, class Acked>
-Writing write_meshes(int vertices, int count, const std::vector<fs::path>& readers, Matched&& matched, Write&& write,
-                     Acked&& acked) {
+// Writes warm-up samples, then `count` counted ones at the type's rate;
+// the writer's own CPU time over the counted window.
+template <class T, class Matched, class Write, class Acked>
+Writing write_large(int size, int count, const std::vector<fs::path>& readers, Matched&& matched, Write&& write,
+                    Acked&& acked) {
   const int want = int(readers.size());
   await_match(matched, want);
+  const std::string what = std::string(Large<T>::role) + " readers, ";
   if (matched() < want)
-    throw std::runtime_error("bench dds: of " + std::to_string(want) + " mesh readers, " + std::to_string(matched()) +
+    throw std::runtime_error("bench dds: of " + std::to_string(want) + " " + what + std::to_string(matched()) +
                              " matched the writer in 10 s");
-  DeformedMesh m = mesh_sample(vertices);
+  T m = Large<T>::make(size);
   Writing w;
-  const std::int64_t period = std::int64_t(1e9 / kMeshRateHz);
+  const std::int64_t period = std::int64_t(1e9 / Large<T>::rate_hz);
   const auto put = [&](std::int64_t at, std::uint64_t step) {
     sleep_until(at);
-    m.positions()[2] = 1e-4f * float(step % 100);  // no two samples alike
+    Large<T>::vary(m, step);  // no two samples alike
     m.stamp().step(step);
     m.stamp().sim_time_ns(std::int64_t(step) * period);
     m.stamp().wall_time_ns(runtime::wall_ns());
     return write(m);
   };
-  m.topology_version(0);
+  Large<T>::count(m, false);
   const std::int64_t matched_at = runtime::mono_ns();
   int settle = kSettleSamples;
   for (std::uint64_t k = 0; settle > 0 && !runtime::stop_requested(); ++k) {
     put(matched_at + std::int64_t(k) * period, k);
     if (ready(readers) < want) {
       if (runtime::mono_ns() - matched_at > 10'000'000'000)
-        throw std::runtime_error("bench dds: of " + std::to_string(want) + " matched mesh readers, " +
+        throw std::runtime_error("bench dds: of " + std::to_string(want) + " matched " + what +
                                  std::to_string(ready(readers)) + " took a sample in 10 s");
       w.startup_ms = (runtime::mono_ns() - matched_at) * 1e-6;
     } else {
       --settle;
     }
   }
-  m.topology_version(1);
+  Large<T>::count(m, true);
   const double cpu0 = cpu_s();
   const std::int64_t start = runtime::mono_ns() + period;
   for (int k = 0; k < count && !runtime::stop_requested(); ++k) {
@@ -380,11 +422,12 @@ Writing write_meshes(int vertices, int count, const std::vector<fs::path>& reade
   return w;
 }
 
-pid_t start_mesh_reader(const std::string& impl, int domain, int count, const fs::path& out,
-                        const std::vector<std::string>& on, const std::vector<std::string>& args) {
+template <class T>
+pid_t start_reader(const std::string& impl, int domain, int count, const fs::path& out,
+                   const std::vector<std::string>& on, const std::vector<std::string>& args) {
   std::vector<std::string> all = {"bench-peer",
                                   "--role",
-                                  "mesh",
+                                  Large<T>::role,
                                   "--impl",
                                   impl,
                                   "--domain",
@@ -394,7 +437,7 @@ pid_t start_mesh_reader(const std::string& impl, int domain, int count, const fs
                                   "--out",
                                   out.string(),
                                   "--duration",
-                                  std::to_string(count / kMeshRateHz + 30)};
+                                  std::to_string(count / Large<T>::rate_hz + 30)};
   all.insert(all.end(), args.begin(), args.end());
   return start_self(on, all);
 }
@@ -417,7 +460,7 @@ bool reap(pid_t pid, double seconds) {
 // Names the steps a reader never took, so that a loss can be told apart:
 // a run of missing steps mid-stream is a writer history overrun (the reader
 // fell 16 samples behind), missing last steps a reader stopped too early.
-void say_missed(const std::string& impl, int reader, int count, const Seen& s, bool acked) {
+void say_missed(const std::string& what, int reader, int count, const Seen& s, bool acked) {
   std::vector<bool> got(std::size_t(count), false);
   for (std::uint64_t k : s.seq)
     if (k < std::uint64_t(count)) got[k] = true;
@@ -431,7 +474,7 @@ void say_missed(const std::string& impl, int reader, int count, const Seen& s, b
     while (k < count && !got[std::size_t(k)]) ++k;
     runs += (runs.empty() ? "" : ", ") + std::to_string(first) + (k - 1 > first ? "-" + std::to_string(k - 1) : "");
   }
-  progress("dds mesh_pub " + impl + ": reader " + std::to_string(reader) + " missed step(s) " + runs + " of " +
+  progress("dds " + what + ": reader " + std::to_string(reader) + " missed step(s) " + runs + " of " +
            std::to_string(count) + (acked ? "" : "; the writer's wait for acknowledgements timed out"));
 }
 
@@ -443,21 +486,23 @@ struct MeshTotals {
   double startup_ms = 0;  // the slowest round's
 };
 
-// One round: `count` samples to `readers` fresh reader processes.
+// One round: `count` samples of `size` to `readers` fresh reader processes.
 // With `hosts`, the writer is on host 0 (this thread's) and reader k on host k + 1.
-void mesh_round(const Context& c, const std::string& impl, int vertices, int readers, int count, int round,
-                MeshTotals& t, const Hosts* hosts = nullptr) {
+template <class T>
+void large_round(const Context& c, const std::string& impl, int size, int readers, int count, int round, MeshTotals& t,
+                 const Hosts* hosts = nullptr) {
   const fs::path dir = c.out / (hosts ? "dds_hosts_run" : "dds_run");
   fs::create_directories(dir);
   std::vector<pid_t> pids;
   std::vector<fs::path> files;
   for (int k = 0; k < readers; ++k) {
-    files.push_back(dir / (impl + "_" + std::to_string(vertices) + "_" + std::to_string(k) + ".txt"));
+    files.push_back(dir / (std::string(Large<T>::role) + "_" + impl + "_" + std::to_string(size) + "_" +
+                           std::to_string(k) + ".txt"));
     fs::remove(files.back());
     fs::remove(files.back().string() + ".ready");
-    pids.push_back(start_mesh_reader(impl, c.domain, count, files.back(),
-                                     hosts ? hosts->exec(k + 1) : std::vector<std::string>{},
-                                     hosts ? rig_args(*hosts, k + 1) : std::vector<std::string>{}));
+    pids.push_back(start_reader<T>(impl, c.domain, count, files.back(),
+                                   hosts ? hosts->exec(k + 1) : std::vector<std::string>{},
+                                   hosts ? rig_args(*hosts, k + 1) : std::vector<std::string>{}));
   }
   const auto ack = std::chrono::seconds(5);
   Writing w;
@@ -468,37 +513,53 @@ void mesh_round(const Context& c, const std::string& impl, int vertices, int rea
     q.durability().kind = VOLATILE_DURABILITY_QOS;
     q.history().kind = KEEP_LAST_HISTORY_QOS;
     q.history().depth = kWriterDepth;
-    DataWriter* dw = p->create_publisher(PUBLISHER_QOS_DEFAULT)
-                         ->create_datawriter(bare_topic<DeformedMesh>(p, runtime::TopicOf<DeformedMesh>::name), q);
-    w = write_meshes(
-        vertices, count, files,
+    DataWriter* dw =
+        p->create_publisher(PUBLISHER_QOS_DEFAULT)->create_datawriter(bare_topic<T>(p, runtime::TopicOf<T>::name), q);
+    w = write_large<T>(
+        size, count, files,
         [&] {
           PublicationMatchedStatus s;
           dw->get_publication_matched_status(s);
           return s.current_count;
         },
-        [&](DeformedMesh& m) { return dw->write(&m); },
+        [&](T& m) { return dw->write(&m); },
         [&] { return dw->wait_for_acknowledgments(runtime::to_dds(ack)) == ReturnCode_t::RETCODE_OK; });
     destroy(p);
   } else {
     runtime::Participant p(c.domain, "bench", runtime::default_qos_file(), nullptr, false, {},
                            hosts ? rig_network(*hosts, 0) : runtime::Network{});
-    runtime::Writer<DeformedMesh> dw(p);
-    w = write_meshes(
-        vertices, count, files, [&] { return dw.matched(); }, [&](DeformedMesh& m) { return dw.write(m); },
+    runtime::Writer<T> dw(p);
+    w = write_large<T>(
+        size, count, files, [&] { return dw.matched(); }, [&](T& m) { return dw.write(m); },
         [&] { return dw.wait_acknowledged(ack); });
   }
   t.written += double(count) * readers, t.refused += double(w.refused), t.cpu_s += w.cpu_s, t.window_s += w.window_s;
   t.startup_ms = std::max(t.startup_ms, w.startup_ms);
   for (int k = 0; k < readers; ++k) {
     if (!reap(pids[std::size_t(k)], 5))
-      throw std::runtime_error("bench dds: mesh reader " + std::to_string(k) + " failed; see " +
-                               files[std::size_t(k)].string());
+      throw std::runtime_error("bench dds: " + std::string(Large<T>::role) + " reader " + std::to_string(k) +
+                               " failed; see " + files[std::size_t(k)].string());
     const Seen s = read_seen(files[std::size_t(k)]);
-    if (s.received < count) say_missed(impl, k, count, s, w.acked);
+    if (s.received < count) say_missed(std::string(Large<T>::role) + " " + impl, k, count, s, w.acked);
     t.received += s.received, t.rejected += s.rejected, t.cpu_s += s.cpu_s;
     for (double v : s.ms) t.ms.add(v), t.half[round % 2].add(v);
   }
+}
+
+// What `readers` readers saw of large samples over every round.
+std::vector<std::pair<std::string, double>> large_metrics(const MeshTotals& t) {
+  return {{"p50_ms", t.ms.percentile(0.5)},
+          {"p99_ms", t.ms.percentile(0.99)},
+          {"loss_ratio", 1 - t.received / t.written},
+          {"cpu_pct", 100 * t.cpu_s / t.window_s},
+          {"samples", t.written},
+          {"refused_writes", t.refused},
+          {"rejected", t.rejected},
+          {"startup_ms", t.startup_ms},
+          // The same impl measured twice (odd rounds, even rounds): how far
+          // apart two p99s of one thing fall on this machine.
+          {"p99_split_ratio", std::max(t.half[0].percentile(0.99) / t.half[1].percentile(0.99),
+                                       t.half[1].percentile(0.99) / t.half[0].percentile(0.99))}};
 }
 
 Row mesh_row(const std::string& impl, int vertices, int readers, const MeshTotals& t) {
@@ -508,18 +569,19 @@ Row mesh_row(const std::string& impl, int vertices, int readers, const MeshTotal
            {"impl", impl},
            {"rate_hz", kMeshRateHz},
            {"bytes", 24.0 * vertices}},
-          {{"p50_ms", t.ms.percentile(0.5)},
-           {"p99_ms", t.ms.percentile(0.99)},
-           {"loss_ratio", 1 - t.received / t.written},
-           {"cpu_pct", 100 * t.cpu_s / t.window_s},
-           {"samples", t.written},
-           {"refused_writes", t.refused},
-           {"rejected", t.rejected},
-           {"startup_ms", t.startup_ms},
-           // The same impl measured twice (odd rounds, even rounds): how far
-           // apart two p99s of one thing fall on this machine.
-           {"p99_split_ratio", std::max(t.half[0].percentile(0.99) / t.half[1].percentile(0.99),
-                                        t.half[1].percentile(0.99) / t.half[0].percentile(0.99))}}};
+          large_metrics(t)};
+}
+
+Row frame_row(const std::string& impl, int readers, const MeshTotals& t) {
+  const CameraFrame f = Large<CameraFrame>::make(0);
+  return {"frame_hosts",
+          {{"width", double(f.width())},
+           {"height", double(f.height())},
+           {"subscribers", double(readers)},
+           {"impl", impl},
+           {"rate_hz", Large<CameraFrame>::rate_hz},
+           {"bytes", double(f.data().size())}},
+          large_metrics(t)};
 }
 
 std::vector<Row> dds_rows(const Context& c) {
@@ -545,7 +607,7 @@ std::vector<Row> dds_rows(const Context& c) {
           progress("dds mesh_pub " + impl + ": " + std::to_string(vertices) + " vertices to " +
                    std::to_string(readers) + " reader(s), round " + std::to_string(round + 1) + " of " +
                    std::to_string(rounds) + ", " + std::to_string(count) + " samples at 60 Hz");
-          mesh_round(c, impl, vertices, readers, count, round, is_bare ? bare_t : ours_t);
+          large_round<DeformedMesh>(c, impl, vertices, readers, count, round, is_bare ? bare_t : ours_t);
         }
       const Row bare = mesh_row("bare", vertices, readers, bare_t);
       Row ours = mesh_row("hcosim", vertices, readers, ours_t);
@@ -556,15 +618,17 @@ std::vector<Row> dds_rows(const Context& c) {
   return rows;
 }
 
-// One reader of mesh_pub: takes DeformedMesh until the last of `count`
-// arrives or it is stopped, then writes what it saw (see Seen).
-int mesh_reader(const std::string& impl, int domain, int count, const fs::path& out, std::int64_t end,
-                const runtime::Network& network) {
+// One reader of mesh_pub, mesh_hosts or frame_hosts: takes T until the
+// last of `count` arrives or it is stopped, then writes what it saw (see
+// Seen).
+template <class T>
+int large_reader(const std::string& impl, int domain, int count, const fs::path& out, std::int64_t end,
+                 const runtime::Network& network) {
   Seen seen;
   double cpu0 = -1;
   bool said = false;
-  const auto got = [&](const DeformedMesh& m) {
-    if (m.topology_version() == 0) {  // warm-up: tells the writer this reader takes samples (see ready())
+  const auto got = [&](const T& m) {
+    if (!Large<T>::counted(m)) {  // warm-up: tells the writer this reader takes samples (see ready())
       if (!said) said = bool(std::ofstream(out.string() + ".ready") << "taking\n");
       return false;
     }
@@ -582,9 +646,9 @@ int mesh_reader(const std::string& impl, int domain, int count, const fs::path& 
     q.durability().kind = VOLATILE_DURABILITY_QOS;
     q.history().kind = KEEP_LAST_HISTORY_QOS;
     q.history().depth = kReaderDepth;
-    DataReader* r = p->create_subscriber(SUBSCRIBER_QOS_DEFAULT)
-                        ->create_datareader(bare_topic<DeformedMesh>(p, runtime::TopicOf<DeformedMesh>::name), q);
-    DeformedMesh m;
+    DataReader* r =
+        p->create_subscriber(SUBSCRIBER_QOS_DEFAULT)->create_datareader(bare_topic<T>(p, runtime::TopicOf<T>::name), q);
+    T m;
     SampleInfo info;
     while (!last && !runtime::stop_requested() && runtime::mono_ns() < end) {
       if (!r->wait_for_unread_message(runtime::to_dds(std::chrono::milliseconds(20)))) continue;
@@ -595,11 +659,10 @@ int mesh_reader(const std::string& impl, int domain, int count, const fs::path& 
   } else {
     runtime::Participant p(domain, "bench_mesh_reader", runtime::default_qos_file(), nullptr, false, {}, network);
     runtime::Rejections rejected;
-    runtime::Reader<DeformedMesh> r(
-        p, [](const DeformedMesh& m) { return adapters::validate(m); }, &rejected, runtime::TopicOf<DeformedMesh>::qos,
-        kReaderDepth);
+    runtime::Reader<T> r(
+        p, [](const T& m) { return adapters::validate(m); }, &rejected, runtime::TopicOf<T>::qos, kReaderDepth);
     while (!last && !runtime::stop_requested() && runtime::mono_ns() < end) {
-      if (r.wait(std::chrono::milliseconds(20))) r.take([&](const DeformedMesh& m) { last = got(m) || last; });
+      if (r.wait(std::chrono::milliseconds(20))) r.take([&](const T& m) { last = got(m) || last; });
     }
     seen.rejected = double(rejected.count);
   }
@@ -725,10 +788,22 @@ std::vector<Row> hosts_rows(const Context& c, double seconds, int count, int rou
           progress("dds mesh_hosts " + impl + ": " + std::to_string(vertices) + " vertices from " + hosts->address(0) +
                    " to " + hosts->address(1) + " and " + hosts->address(2) + ", round " + std::to_string(round + 1) +
                    " of " + std::to_string(rounds) + ", " + std::to_string(count) + " samples at 60 Hz");
-          mesh_round(c, impl, vertices, readers, count, round, is_bare ? bare_t : ours_t, hosts.get());
+          large_round<DeformedMesh>(c, impl, vertices, readers, count, round, is_bare ? bare_t : ours_t, hosts.get());
         }
       between_hosts(rows, "mesh_hosts", 3, mesh_row("bare", vertices, readers, bare_t),
                     mesh_row("hcosim", vertices, readers, ours_t));
+      // A camera's frames to the AR view on another host, as many as meshes.
+      MeshTotals bare_f, ours_f;
+      for (int round = 0; round < rounds; ++round)
+        for (const bool first : {true, false}) {
+          const bool is_bare = first == (round % 2 == 0);
+          const std::string impl = is_bare ? "bare" : "hcosim";
+          progress("dds frame_hosts " + impl + ": 640x480 bgr8 frames from " + hosts->address(0) + " to " +
+                   hosts->address(1) + ", round " + std::to_string(round + 1) + " of " + std::to_string(rounds) + ", " +
+                   std::to_string(count) + " frames at 30 Hz");
+          large_round<CameraFrame>(c, impl, 0, 1, count, round, is_bare ? bare_f : ours_f, hosts.get());
+        }
+      between_hosts(rows, "frame_hosts", 2, frame_row("bare", 1, bare_f), frame_row("hcosim", 1, ours_f));
     } catch (...) {
       error = std::current_exception();
     }
@@ -785,14 +860,22 @@ Suite dds_suite() {
                       "The mesh_pub rows' 10^5-vertex meshes between hosts made of network namespaces: written on "
                       "one, read by one process on each of two others, over UDP (fragments of 64 KB datagrams), "
                       "RELIABLE; alternating rounds as above."});
+  s.tables.push_back({"frame_hosts",
+                      "A camera's 640x480 bgr8 CameraFrames (921,600 bytes of pixels) at 30 Hz between hosts made of "
+                      "network namespaces: written on one, read by one process on another (the AR view's place), "
+                      "over UDP, RELIABLE; alternating rounds as above."});
   // Bare Fast DDS's own losses are the baseline's, reported beside ours.
-  s.goals = {{"no sample lost with reliable QoS", "mesh_pub", "loss_ratio", 0, "impl", "hcosim"},
-             {"hcosim's p99 within 1.2 times bare Fast DDS's", "mesh_pub", "p99_ratio_to_bare", 1.2, "impl", "hcosim"},
-             {"between hosts, the haptic round trip's p99 within 1.5 times bare Fast DDS's", "rtt_hosts",
-              "p99_ratio_to_bare", 1.5, "impl", "hcosim"},
-             {"between hosts, no mesh lost with reliable QoS", "mesh_hosts", "loss_ratio", 0, "impl", "hcosim"},
-             {"between hosts, hcosim's mesh p99 within 1.2 times bare Fast DDS's", "mesh_hosts", "p99_ratio_to_bare",
-              1.2, "impl", "hcosim"}};
+  s.goals = {
+      {"no sample lost with reliable QoS", "mesh_pub", "loss_ratio", 0, "impl", "hcosim"},
+      {"hcosim's p99 within 1.2 times bare Fast DDS's", "mesh_pub", "p99_ratio_to_bare", 1.2, "impl", "hcosim"},
+      {"between hosts, the haptic round trip's p99 within 1.5 times bare Fast DDS's", "rtt_hosts", "p99_ratio_to_bare",
+       1.5, "impl", "hcosim"},
+      {"between hosts, no mesh lost with reliable QoS", "mesh_hosts", "loss_ratio", 0, "impl", "hcosim"},
+      {"between hosts, hcosim's mesh p99 within 1.2 times bare Fast DDS's", "mesh_hosts", "p99_ratio_to_bare", 1.2,
+       "impl", "hcosim"},
+      {"between hosts, no camera frame lost with reliable QoS", "frame_hosts", "loss_ratio", 0, "impl", "hcosim"},
+      {"between hosts, hcosim's frame p99 within 1.2 times bare Fast DDS's", "frame_hosts", "p99_ratio_to_bare", 1.2,
+       "impl", "hcosim"}};
   return s;
 }
 
@@ -812,10 +895,12 @@ int peer(const PeerOptions& o) {
   const std::int64_t end = runtime::mono_ns() + std::int64_t(o.duration_s * 1e9);
   const std::string& impl = o.impl;
   runtime::install_stop_handlers();
-  if (o.role == "mesh")
-    return mesh_reader(impl, domain, o.count, o.out, end,
-                       o.deployment.empty() ? runtime::Network{}
-                                            : runtime::network_of(runtime::load_deployment(o.deployment), o.host));
+  if (o.role == "mesh" || o.role == "frame") {
+    const runtime::Network network =
+        o.deployment.empty() ? runtime::Network{} : runtime::network_of(runtime::load_deployment(o.deployment), o.host);
+    return o.role == "mesh" ? large_reader<DeformedMesh>(impl, domain, o.count, o.out, end, network)
+                            : large_reader<CameraFrame>(impl, domain, o.count, o.out, end, network);
+  }
   if (o.role == "ping") {
     // The bare pair as a baseline beside a test's deployment, same time, same load.
     const Rtt r = bare_rtt(domain, o.duration_s, o.priority);
@@ -868,12 +953,12 @@ void add_peer(CLI::App& app, runtime::Command& chosen) {
       ->required()
       ->check(CLI::IsMember({"bare", "hcosim"}));
   c->add_option("--role", o->role,
-                "answer round trips (pong), read meshes (mesh), or ping a bare pong of its own and print the round "
-                "trips as JSON (ping, bare only: a test's same-run baseline)")
-      ->check(CLI::IsMember({"pong", "mesh", "ping"}));
+                "answer round trips (pong), read meshes (mesh) or camera frames (frame), or ping a bare pong of its "
+                "own and print the round trips as JSON (ping, bare only: a test's same-run baseline)")
+      ->check(CLI::IsMember({"pong", "mesh", "frame", "ping"}));
   runtime::add_domain(*c, o->domain);
   c->add_option("--duration", o->duration_s, "run time, s")->check(runtime::within(0, 1e6));
-  c->add_option("--count", o->count, "meshes to read")->check(CLI::Range(0, 1000000000));
+  c->add_option("--count", o->count, "meshes or frames to read")->check(CLI::Range(0, 1000000000));
   c->add_option("--out", o->out, "what the mesh reader saw");
   c->add_option("--priority", o->priority, "SCHED_FIFO priority (0: normal)")->check(CLI::Range(0, 99));
   c->add_option("--deployment", o->deployment, "hcosim: a rig's file, whose network section the peer uses")

@@ -42,8 +42,9 @@ problems=$(jq -r '
 [ -z "$problems" ] || fail "dds rows: $problems; $(grep -F missed "$WORK/bench.log" | head -6)"
 
 # Between hosts made of network namespaces, where this machine can make
-# them: round trips between two, and 10^5-vertex meshes from one to a
-# reader on each of two others over UDP, reliable, none lost.
+# them: round trips between two, 10^5-vertex meshes from one to a reader
+# on each of two others and a camera's frames from one to another, over
+# UDP, reliable, none lost.
 if skipped=$(grep -o "dds between hosts: skipped: .*" "$WORK/bench.log"); then
   echo "bench_test: $skipped"
 else
@@ -60,12 +61,21 @@ else
           elif $m.samples != 480 then "mesh_hosts \($i): \($m.samples) samples, not 480"
           elif $i == "hcosim" and $m.loss_ratio != 0
             then "mesh_hosts: hcosim lost \($m.loss_ratio) of the 10^5-vertex meshes between hosts (RELIABLE)"
+          else empty end]
+     + [("bare", "hcosim") as $i | row("frame_hosts"; $i) as $m
+        | if $m == null then "frame_hosts \($i): no row"
+          elif ([$m.p50_ms, $m.p99_ms, $m.cpu_pct] | map(type == "number" and . > 0) | all) | not
+            then "frame_hosts \($i): p50_ms, p99_ms or cpu_pct missing or not positive"
+          elif $m.samples != 240 then "frame_hosts \($i): \($m.samples) samples, not 240"
+          elif $i == "hcosim" and $m.loss_ratio != 0
+            then "frame_hosts: hcosim lost \($m.loss_ratio) of the camera frames between hosts (RELIABLE)"
           else empty end])
     | .[]' "$f") || fail "jq could not read $f"
   [ -z "$problems" ] || fail "dds rows between hosts: $problems; $(grep -F missed "$WORK/bench.log" | head -6)"
-  grep -q '^### mesh_hosts$' "$WORK/b/index.md" || fail "no mesh_hosts table"
+  for t in mesh_hosts frame_hosts; do grep -q "^### $t$" "$WORK/b/index.md" || fail "no $t table"; done
   echo "bench_test: between hosts: $(jq -r '[.rows[] | select(.name == "mesh_hosts" and .params.impl == "hcosim")][0].metrics
-    | "10^5-vertex meshes to two hosts, none lost, p99 \(.p99_ms) ms"' "$f")"
+    | "10^5-vertex meshes to two hosts, none lost, p99 \(.p99_ms) ms"' "$f"); $(jq -r '[.rows[] | select(.name ==
+    "frame_hosts" and .params.impl == "hcosim")][0].metrics | "camera frames to another, none lost, p99 \(.p99_ms) ms"' "$f")"
 fi
 
 # The report: its p99 goal's verdict follows from the rows.
