@@ -16,7 +16,9 @@
 # 3. The sim host lost at once (every process in its namespace killed) and
 #    started again: the device's up runs on, says its sources fell silent
 #    (their force zero), and they answer again within 5 s of the host's up
-#    coming back.
+#    coming back. Its recording (up --record on the device's host) holds
+#    every mesh a probe on the sim host wrote before the loss, from the
+#    first it recorded to the last, with no gap, and goes on after it.
 # 4. Lockstep with the clock on `sim`, over peers: the run recorded on
 #    `device` exports the same states, forces and meshes, bit for bit from
 #    step 0, as the same file run on one host.
@@ -127,14 +129,19 @@ grep -q "started discovery" "$WORK/server_sim.log" || fail "the server host's up
 # its sources fall silent and their force is zero, and they answer again
 # within 5 s of the sim host's up coming back.
 rig loss.yaml peers realtime 14
+cat >>"$WORK/loss.yaml" <<YAML
+  - {name: feed, kind: test_probe, rate: 20, host: sim, params: {role: mesh, vertices: 1000}}
+YAML
 rm -f "$WORK/omni.json"
 on_host sim "$BIN/hcosim" up "$WORK/loss.yaml" --host sim --out "$WORK/loss_sim" >"$WORK/loss_sim.log" 2>&1 &
 on_host device timeout $((60 * SLOWDOWN)) "$BIN/hcosim" up "$WORK/loss.yaml" --host device --out "$WORK/loss_device" \
+  --record "$WORK/loss.rec" \
   >"$WORK/loss_device.log" 2>&1 &
 device=$!
 for _ in $(seq $((200 * SLOWDOWN))); do grep -q "every service running" "$WORK/loss_device.log" && break; sleep 0.1; done
 grep -q "every service running" "$WORK/loss_device.log" || fail "the rig never ran: $(cat "$WORK/loss_device.log")"
 sleep 3
+killed=$(date +%s%N)
 for p in $(ip netns pids "$(ns_of sim)"); do kill -KILL "$p"; done
 omni_log=$WORK/loss_device/logs/omni.log
 for _ in $(seq 50); do grep -q "source 'sheet' fell silent" "$omni_log" && break; sleep 0.1; done
@@ -153,6 +160,27 @@ resumed=$(awk -v a="$again" -v b="$back" 'BEGIN { printf "%.2f", a - b }')
 awk -v r="$resumed" -v s="$SLOWDOWN" 'BEGIN { exit !(r <= 5 * s) }' ||
   fail "the sheet answered again $resumed s after its host's up came back (bound 5 s)"
 echo "network_test: the sim host killed and started again: the sheet answered again $resumed s after its up came back"
+# The probe's meshes before the loss: steps from the first recorded to the
+# last, each once, but for ticks its status said it shed (overruns).
+"$BIN/hcosim" export "$WORK/loss.rec" --topic DeformedMesh --wall >"$WORK/loss_meshes.jsonl" 2>"$WORK/export.log" &&
+  "$BIN/hcosim" export "$WORK/loss.rec" --topic ServiceStatus --wall >"$WORK/loss_status.jsonl" 2>>"$WORK/export.log" ||
+  fail "export of the recording across the loss: $(cat "$WORK/export.log")"
+read -r first last count gaps after < <(jq -rs --argjson k "$killed" --argjson b "${back/./}" '
+  [.[] | select(.mesh == "feed")] as $m
+  | [$m[] | select(.stamp.wall_time_ns < $k) | .stamp.step] as $s
+  | ($s | unique) as $u
+  | ([range(1; $u | length) | $u[.] - $u[. - 1]] | min // 1) as $p
+  | [($u[0] // -1), ($u[-1] // -1), ($s | length), ((($u[-1] // 0) - ($u[0] // 0)) / $p + 1 - ($u | length)),
+     ([$m[] | select(.stamp.wall_time_ns > $b)] | length)] | map(tostring) | join(" ")' "$WORK/loss_meshes.jsonl")
+shed=$(jq -rs --argjson k "$killed" '[.[] | select(.service == "feed" and .stamp.wall_time_ns < $k)] | max_by(.stamp.step)
+  | .outputs_shed // 0' "$WORK/loss_status.jsonl")
+# (Steps are base steps, a mesh every 50 at 20 Hz; each recorded once:
+# count equals the number of distinct steps.)
+[ "${count:-0}" -ge 30 ] && [ "$gaps" -le "$shed" ] && [ "$count" -eq "$(jq -rs --argjson k "$killed" \
+  '[.[] | select(.mesh == "feed" and .stamp.wall_time_ns < $k) | .stamp.step] | unique | length' "$WORK/loss_meshes.jsonl")" ] ||
+  fail "the recording across the loss: the probe's meshes $first to $last before it, $count recorded, $gaps missing ($shed shed by the probe)"
+[ "$after" -gt 0 ] || fail "the recording took none of the probe's meshes after its host came back"
+echo "network_test: recorded across the loss: the probe's meshes $first to $last before it, $count of them, $gaps missing ($shed shed); $after after its host came back"
 
 # 4. Lockstep over peers, against one host.
 rig lockstep.yaml peers lockstep 2
