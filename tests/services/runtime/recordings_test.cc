@@ -46,7 +46,7 @@ TEST(Recordings, WritersReachARecordingOnceItsReadersMatch) {
   EXPECT_TRUE(recordings.prefixes().empty());
 
   auto recording = std::make_unique<Participant>(kDomain, kRecordingParticipant);
-  Reader<HapticState> recorded_states(*recording);
+  auto recorded_states = std::make_unique<Reader<HapticState>>(*recording);
   ASSERT_TRUE(within_5_s([&] { return recordings.prefixes().size() == 1; }));
   EXPECT_EQ(recordings.ups(), 2);
   // Its reader of states matches; nothing of it reads forces yet.
@@ -59,7 +59,8 @@ TEST(Recordings, WritersReachARecordingOnceItsReadersMatch) {
   // A reader gone leaves its writer unreached again.
   EXPECT_TRUE(within_5_s([&] { return unreached(service, recordings.prefixes()).size() == 1; }));
 
-  // The recording gone, nothing is waited for.
+  // The recording gone (its reader first), nothing is waited for.
+  recorded_states.reset();
   recording.reset();
   EXPECT_TRUE(within_5_s([&] { return recordings.prefixes().empty(); }));
   EXPECT_EQ(recordings.ups(), 1);
