@@ -51,25 +51,18 @@ else
   problems=$(jq -r '
     .rows as $rows
     | def row($n; $i): [$rows[] | select(.name == $n and .params.impl == $i)][0].metrics;
+    def large($n; $samples; $what): [("bare", "hcosim") as $i | row($n; $i) as $m
+        | if $m == null then "\($n) \($i): no row"
+          elif ([$m.p50_ms, $m.p99_ms, $m.cpu_pct] | map(type == "number" and . > 0) | all) | not
+            then "\($n) \($i): p50_ms, p99_ms or cpu_pct missing or not positive"
+          elif $m.samples != $samples then "\($n) \($i): \($m.samples) samples, not \($samples)"
+          elif $i == "hcosim" and $m.loss_ratio != 0
+            then "\($n): hcosim lost \($m.loss_ratio) of \($what) between hosts (RELIABLE)"
+          else empty end];
     ([("bare", "hcosim") as $i | ("p50_us", "p99_us") as $k
       | select((row("rtt_hosts"; $i)[$k] | type) != "number") | "rtt_hosts \($i): no \($k)"]
      + [if (row("rtt_hosts"; "hcosim").p99_ratio_to_bare | type) != "number" then "rtt_hosts: no ratio to bare" else empty end]
-     + [("bare", "hcosim") as $i | row("mesh_hosts"; $i) as $m
-        | if $m == null then "mesh_hosts \($i): no row"
-          elif ([$m.p50_ms, $m.p99_ms, $m.cpu_pct] | map(type == "number" and . > 0) | all) | not
-            then "mesh_hosts \($i): p50_ms, p99_ms or cpu_pct missing or not positive"
-          elif $m.samples != 480 then "mesh_hosts \($i): \($m.samples) samples, not 480"
-          elif $i == "hcosim" and $m.loss_ratio != 0
-            then "mesh_hosts: hcosim lost \($m.loss_ratio) of the 10^5-vertex meshes between hosts (RELIABLE)"
-          else empty end]
-     + [("bare", "hcosim") as $i | row("frame_hosts"; $i) as $m
-        | if $m == null then "frame_hosts \($i): no row"
-          elif ([$m.p50_ms, $m.p99_ms, $m.cpu_pct] | map(type == "number" and . > 0) | all) | not
-            then "frame_hosts \($i): p50_ms, p99_ms or cpu_pct missing or not positive"
-          elif $m.samples != 240 then "frame_hosts \($i): \($m.samples) samples, not 240"
-          elif $i == "hcosim" and $m.loss_ratio != 0
-            then "frame_hosts: hcosim lost \($m.loss_ratio) of the camera frames between hosts (RELIABLE)"
-          else empty end])
+     + large("mesh_hosts"; 480; "the 10^5-vertex meshes") + large("frame_hosts"; 240; "the camera frames"))
     | .[]' "$f") || fail "jq could not read $f"
   [ -z "$problems" ] || fail "dds rows between hosts: $problems; $(grep -F missed "$WORK/bench.log" | head -6)"
   for t in mesh_hosts frame_hosts; do grep -q "^### $t$" "$WORK/b/index.md" || fail "no $t table"; done
