@@ -111,6 +111,11 @@ constexpr std::int64_t kHeartbeatNs = 1'000'000'000;
 // How long a lockstep follower waits for a recording to match its
 // writers (matching takes milliseconds; the clock waits 10 s for a step).
 constexpr std::int64_t kRecordingWaitNs = 5'000'000'000;
+// How long a lockstep follower waits for the next tick once the run has
+// begun: the clock gives up on a step after 10 s, so a follower that hears
+// nothing for longer has lost the clock (its host gone, or the clock
+// stopped) and ends instead of waiting forever.
+constexpr std::int64_t kTickWaitNs = 20'000'000'000;
 
 // Base steps per service step. A lockstep follower steps on whole ticks of
 // the clock; in real time the period is the rate's own and this only
@@ -356,8 +361,14 @@ int Service::run_lockstep(const std::function<void(const Tick&)>& step) {
   bool finished = false;
   int code = 0;
   std::int64_t sim_ns = 0;
+  std::int64_t last_tick_ns = 0;  // 0: before tick 0, which waits for the clock to start
   while (!g_stop && !finished && code == 0) {
     heartbeat(sim_ns, expected);
+    if (last_tick_ns > 0 && mono_ns() - last_tick_ns > kTickWaitNs) {
+      std::cerr << options_.name << ": no tick from the clock for " << kTickWaitNs / 1'000'000'000 << " s after step "
+                << expected - 1 << "; the clock stopped or its host is gone\n";
+      return 1;
+    }
     if (!ticks.wait(std::chrono::milliseconds(100))) continue;
     ticks.take([&](const ClockTick& t) {
       if (finished || code != 0) return;
@@ -399,6 +410,7 @@ int Service::run_lockstep(const std::function<void(const Tick&)>& step) {
         return;
       }
       ++expected;
+      last_tick_ns = mono_ns();
       finished = t.last();
     });
   }

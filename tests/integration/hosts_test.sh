@@ -9,6 +9,8 @@
 #    the same file run by one `hcosim up` without --host, from step 0.
 # 3. --host naming a host the file lacks is refused at the file's hosts
 #    list, before anything starts.
+# 4. The clock lost mid-run (killed on `sim`): the device's follower ends
+#    within its 20 s wait for a tick, saying why, and its up ends with it.
 source "$(dirname "$0")/lib.sh"
 sheet_tour 1
 body='hosts:
@@ -55,13 +57,13 @@ echo "hosts_test: real time: the device on one up felt $peak N from the sheet on
 # 2. Lockstep: the clock on sim, the recording on device; then one up for all.
 sed -e 's/^mode: realtime/mode: lockstep/' -e 's/^duration: 5/duration: 2/' "$WORK/rig.yaml" >"$WORK/ls.yaml"
 start ls_sim "$BIN/hcosim" up "$WORK/ls.yaml" --host sim --out "$WORK/ls_sim"
-limit 120 "$BIN/hcosim" up "$WORK/ls.yaml" --host device --record "$WORK/split.rec" --out "$WORK/ls_device" \
+limit 40 "$BIN/hcosim" up "$WORK/ls.yaml" --host device --record "$WORK/split.rec" --out "$WORK/ls_device" \
   >"$WORK/ls_device.log" 2>&1 || fail "lockstep up --host device exited $?"
 wait "${PIDS[2]}" || fail "lockstep up --host sim exited $?"
 grep -q "lockstep run complete" "$WORK/ls_sim.log" || fail "the clock's host did not complete: $(tail -n 3 "$WORK/ls_sim.log")"
 grep -q "lockstep run complete (the clock runs on another host)" "$WORK/ls_device.log" ||
   fail "the device's host did not complete: $(tail -n 3 "$WORK/ls_device.log")"
-limit 120 "$BIN/hcosim" up "$WORK/ls.yaml" --record "$WORK/one.rec" --out "$WORK/ls_one" >"$WORK/ls_one.log" 2>&1 ||
+limit 40 "$BIN/hcosim" up "$WORK/ls.yaml" --record "$WORK/one.rec" --out "$WORK/ls_one" >"$WORK/ls_one.log" 2>&1 ||
   fail "lockstep up on one host exited $?"
 same_recordings split one
 echo "hosts_test: lockstep: $(wc -l <"$WORK/HapticState.one.jsonl") states, $(wc -l <"$WORK/DeformedMesh.one.jsonl") meshes identical on two ups and on one"
@@ -71,4 +73,27 @@ echo "hosts_test: lockstep: $(wc -l <"$WORK/HapticState.one.jsonl") states, $(wc
 grep -q "rig.yaml:[0-9]*:[0-9]*: --host camera: no such host in hosts: (device, sim)" "$WORK/bad.log" ||
   fail "the unknown host is not named at the file: $(cat "$WORK/bad.log")"
 [ ! -d "$WORK/bad/logs" ] || [ -z "$(ls "$WORK/bad/logs")" ] || fail "up --host camera started something"
+
+# 4. The clock's host lost: its clock killed once the run is under way.
+sed -e 's/^duration: 2/duration: 600/' "$WORK/ls.yaml" >"$WORK/lost.yaml"
+start lost_sim "$BIN/hcosim" up "$WORK/lost.yaml" --host sim --out "$WORK/lost_sim"
+start lost_device "$BIN/hcosim" up "$WORK/lost.yaml" --host device --out "$WORK/lost_device"
+limit 60 "$BIN/hcosim" echo ClockTick --count 100 --domain "$DOMAIN" >"$WORK/ticks.jsonl" 2>&1 ||
+  fail "no lockstep run under way: $(tail -n 1 "$WORK/ticks.jsonl")"
+clock=$(sed -nE 's/.*started +clock +pid ([0-9]+).*/\1/p' "$WORK/lost_sim.log")
+[ -n "$clock" ] || fail "no clock on host sim: $(cat "$WORK/lost_sim.log")"
+kill -KILL "$clock"
+t0=$(date +%s)
+for _ in $(seq $((400 * SLOWDOWN))); do alive "${PIDS[4]}" || break; sleep 0.1; done
+alive "${PIDS[4]}" && fail "the device's up still runs $(($(date +%s) - t0)) s after the clock was killed"
+wait "${PIDS[4]}"
+code=$?
+[ $code -ne 0 ] || fail "the device's up exited 0 with the clock gone"
+waited=$(($(date +%s) - t0))
+grep -q "omni: no tick from the clock for 20 s after step [0-9]*; the clock stopped or its host is gone" \
+  "$WORK/lost_device/logs/omni.log" || fail "the follower did not say it lost the clock: $(tail -n 3 "$WORK/lost_device/logs/omni.log")"
+grep -q "service 'omni' ended (exit status 1)" "$WORK/lost_device.log" ||
+  fail "the device's up did not name its follower's end: $(tail -n 3 "$WORK/lost_device.log")"
+wait "${PIDS[3]}"
+echo "hosts_test: clock lost: the device's up ended $waited s after (exit $code), its follower saying why"
 echo "hosts_test: ok"
