@@ -30,7 +30,7 @@ inline eprosima::fastrtps::Duration_t to_dds(std::chrono::nanoseconds d) {
 }
 
 // Heartbeat period of lockstep writers, ns (see Writer).
-inline constexpr std::uint32_t kLockstepHeartbeatNs = 100'000;
+inline constexpr std::uint32_t kLockstepHeartbeatNs = 1'000'000;
 // In lockstep HapticState's writers and readers are TRANSIENT_LOCAL: a
 // step of the Gauss-Seidel group waits for the device's state of that same
 // step, which a reader matched a moment after the write must still get
