@@ -23,6 +23,8 @@ const MediaApi& media_module() {
   return *api;
 }
 
+void load_media() { media_module(); }
+
 void write_image(const std::string& path, const cv::Mat& image) { media_module().write_image(path, image); }
 
 std::vector<unsigned char> encode_jpeg(const cv::Mat& image, int quality) {

@@ -9,6 +9,12 @@
 
 namespace hcosim::adapters::vision {
 
+// Loads the media module now instead of at the first image or video: its
+// codecs' libraries (OpenCV's, and GDAL's behind them) take a burst of CPU
+// to load, which a live stream should spend before its first frame.
+// Throws std::runtime_error as the first image would.
+void load_media();
+
 // Writes an 8-bit grey or BGR image, its format from the extension.
 // Throws std::runtime_error naming the path when it cannot.
 void write_image(const std::string& path, const cv::Mat& image);

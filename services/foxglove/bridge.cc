@@ -1,9 +1,14 @@
 #include "services/foxglove/bridge.h"
 
+#include <pthread.h>
+
 #include <cstdio>
 #include <type_traits>
 
+#include <opencv2/core/utility.hpp>
+
 #include "adapters/validate.h"
+#include "adapters/vision/media.h"
 #include "services/runtime/recording.h"
 #include "services/runtime/service.h"
 #include "services/runtime/topics.h"
@@ -31,7 +36,14 @@ std::uint64_t time_of(const T& s) {
 Bridge::Bridge(runtime::Participant& p, Server& server, std::vector<adapters::scene::Item> items,
                adapters::scene::Options o)
     : server_(server), builder_(std::move(items), o) {
-  drawer_ = std::thread([this] { draw_loop(); });
+  adapters::vision::load_media();
+  // A 640x480 frame gains nothing from OpenCV's thread pool, whose
+  // workers wake for each colour conversion and spin after it.
+  cv::setNumThreads(1);
+  drawer_ = std::thread([this] {
+    pthread_setname_np(pthread_self(), "fox_draw");
+    draw_loop();
+  });
   runtime::for_each_topic([&](auto tag) {
     using T = typename decltype(tag)::type;
     using Topic = runtime::TopicOf<T>;
@@ -72,7 +84,11 @@ void Bridge::take(const T& s, std::uint32_t raw) {
   ++samples_;
   const std::uint64_t t = time_of(s);
   if (t > newest_ns_) newest_ns_ = t;
-  if (server_.subscribed(raw)) server_.publish(raw, t, runtime::to_cdr(s));
+  if (server_.subscribed(raw)) {
+    std::string framed(Server::kHeadroom, '\0');
+    runtime::append_cdr(s, framed);
+    server_.publish_framed(raw, t, std::move(framed));
+  }
   if constexpr (std::is_same_v<T, MeshTopology>) {
     std::lock_guard<std::mutex> l(m_);
     topologies_.push_back([s](adapters::scene::Builder& b) { return b.on(s); });
@@ -106,7 +122,7 @@ void Bridge::draw_loop() {
       for (auto& [id, work] : pending) {
         for (adapters::scene::Message& m : work.first(builder_)) {
           ++drawn_;
-          server_.publish(id, work.second, std::move(m.cdr));
+          server_.publish(id, work.second, m.cdr);
         }
       }
       unmatched_ = builder_.unmatched();

@@ -1,5 +1,7 @@
 #include "services/foxglove/server.h"
 
+#include <pthread.h>
+
 #include <chrono>
 #include <deque>
 #include <map>
@@ -26,15 +28,28 @@ constexpr std::uint8_t kTime = 2;
 constexpr std::size_t kMaxRequestBytes = 1 << 16;
 // How often the socket thread sends what waits: well under a frame of
 // Foxglove's panels (60 Hz).
-constexpr std::chrono::milliseconds kFlushPeriod{5};
+constexpr std::chrono::milliseconds kFlushPeriod{10};
 
 std::int64_t now_ns() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
       .count();
 }
 
-void put_le(std::vector<std::uint8_t>& out, std::uint64_t v, int bytes) {
-  for (int i = 0; i < bytes; ++i) out.push_back(std::uint8_t(v >> (8 * i)));
+void put_le(char* out, std::uint64_t v, int bytes) {
+  for (int i = 0; i < bytes; ++i) out[i] = char(std::uint8_t(v >> (8 * i)));
+}
+
+// A binary websocket frame of `payload`, prepared here (header made, no
+// masking from a server) so that websocketpp sends the bytes as they are
+// instead of copying them twice into messages of its own.
+WsServer::message_ptr binary_frame(std::string payload) {
+  const auto op = websocketpp::frame::opcode::binary;
+  auto msg = std::make_shared<websocketpp::config::asio::message_type>(nullptr, op, 0);
+  const websocketpp::frame::basic_header head(op, payload.size(), true, false);
+  msg->set_header(websocketpp::frame::prepare_header(head, websocketpp::frame::extended_header(payload.size())));
+  msg->get_raw_payload() = std::move(payload);
+  msg->set_prepared(true);
+  return msg;
 }
 
 json channel_json(std::uint32_t id, const Channel& c) {
@@ -54,7 +69,7 @@ struct Server::Impl {
     enum Kind { kMessage, kTime, kAdvertise } kind = kMessage;
     std::uint32_t channel = 0;
     std::uint64_t time_ns = 0;
-    std::vector<std::uint8_t> data;
+    std::string framed;  // kHeadroom bytes, then the message's data
     Channel advertised;
   };
   struct Client {
@@ -84,11 +99,11 @@ struct Server::Impl {
 
   // With `m` held.
   void enqueue_locked(Out out) {
-    if (out.kind == Out::kMessage && outbox_bytes + out.data.size() > o.outbox_limit_bytes) {
+    if (out.kind == Out::kMessage && outbox_bytes + out.framed.size() > o.outbox_limit_bytes) {
       ++outbox_dropped;
       return;
     }
-    outbox_bytes += out.data.size();
+    outbox_bytes += out.framed.size();
     outbox.push_back(std::move(out));
   }
 
@@ -125,7 +140,6 @@ struct Server::Impl {
       outbox_bytes = 0;
     }
     const std::int64_t now = now_ns();
-    std::vector<std::uint8_t> frame;
     for (Out& out : batch) {
       if (out.kind == Out::kAdvertise) {
         // Ids are given in the outbox's order, so an id is its index here.
@@ -134,10 +148,9 @@ struct Server::Impl {
         for (auto& c : clients) send_text(c.first, j);
         continue;
       }
-      for (auto it = clients.begin(); it != clients.end();) {
-        Client& c = it->second;
-        const Hdl h = it->first;
-        ++it;  // a client closed here stays in the map until its close handler
+      // The clients it goes to: the last one takes the bytes, the others a copy.
+      std::vector<std::pair<WsServer::connection_ptr, std::uint32_t>> to;
+      for (auto& [h, c] : clients) {
         std::uint32_t sub = 0;
         if (out.kind == Out::kMessage) {
           const auto s = c.sub_of.find(out.channel);
@@ -146,37 +159,46 @@ struct Server::Impl {
         }
         websocketpp::lib::error_code ec;
         const WsServer::connection_ptr con = ws.get_con_from_hdl(h, ec);
-        if (ec || con->get_state() != websocketpp::session::state::open) continue;
-        const std::size_t unsent = con->get_buffered_amount();
-        // Hysteresis: a client counts as caught up only under half its
-        // limit, so one that drains a trickle into its kernel's growing
-        // buffer, hovering at the limit, is still closed.
-        if (unsent < o.client_limit_bytes / 2) c.over_since_ns = 0;
-        if (unsent > o.client_limit_bytes) {
-          if (out.kind == Out::kMessage) ++held_back;
-          if (c.over_since_ns == 0) c.over_since_ns = now;
-          if (now - c.over_since_ns > std::int64_t(o.slow_client_s * 1e9)) {
-            ++slow_closed;
-            c.over_since_ns = INT64_MAX / 2;  // closed once
-            con->close(websocketpp::close::status::policy_violation, "too slow: not reading its messages", ec);
-          }
+        if (ec || con->get_state() != websocketpp::session::state::open || !within_limit(c, con, out.kind, now))
           continue;
-        }
-        frame.clear();
+        to.emplace_back(con, sub);
+      }
+      if (out.kind == Out::kTime) out.framed.assign(9, '\0');
+      for (std::size_t i = 0; i < to.size(); ++i) {
+        const auto& [con, sub] = to[i];
+        std::string frame = i + 1 == to.size() ? std::move(out.framed) : out.framed;
         if (out.kind == Out::kMessage) {
-          frame.push_back(kMessageData);
-          put_le(frame, sub, 4);
-          put_le(frame, out.time_ns, 8);
-          frame.insert(frame.end(), out.data.begin(), out.data.end());
+          frame[0] = char(kMessageData);
+          put_le(&frame[1], sub, 4);
+          put_le(&frame[5], out.time_ns, 8);
           ++sent;
         } else {
-          frame.push_back(kTime);
-          put_le(frame, out.time_ns, 8);
+          frame[0] = char(kTime);
+          put_le(&frame[1], out.time_ns, 8);
         }
         bytes += frame.size();
-        con->send(frame.data(), frame.size(), websocketpp::frame::opcode::binary);
+        con->send(binary_frame(std::move(frame)));
       }
     }
+  }
+
+  // Whether a client may be sent more now; one over its limit for too long is closed.
+  bool within_limit(Client& c, const WsServer::connection_ptr& con, Out::Kind kind, std::int64_t now) {
+    const std::size_t unsent = con->get_buffered_amount();
+    // Hysteresis: a client counts as caught up only under half its
+    // limit, so one that drains a trickle into its kernel's growing
+    // buffer, hovering at the limit, is still closed.
+    if (unsent < o.client_limit_bytes / 2) c.over_since_ns = 0;
+    if (unsent <= o.client_limit_bytes) return true;
+    if (kind == Out::kMessage) ++held_back;
+    if (c.over_since_ns == 0) c.over_since_ns = now;
+    if (now - c.over_since_ns > std::int64_t(o.slow_client_s * 1e9)) {
+      ++slow_closed;
+      c.over_since_ns = INT64_MAX / 2;  // closed once
+      websocketpp::lib::error_code ec;
+      con->close(websocketpp::close::status::policy_violation, "too slow: not reading its messages", ec);
+    }
+    return false;
   }
 
   void on_open(Hdl h) {
@@ -282,7 +304,10 @@ Server::Server(ServerOptions o) : impl_(std::make_unique<Impl>()) {
   s.port = s.ws.get_local_endpoint(aec).port();
   s.flush_timer = std::make_unique<asio::steady_timer>(s.ws.get_io_service());
   s.flush_every_period();
-  s.thread = std::thread([&s] { s.ws.run(); });
+  s.thread = std::thread([&s] {
+    pthread_setname_np(pthread_self(), "fox_socket");
+    s.ws.run();
+  });
 }
 
 Server::~Server() {
@@ -322,11 +347,18 @@ bool Server::subscribed(std::uint32_t channel) const {
   return channel < kMaxChannels && impl_->subscribers[channel].load(std::memory_order_relaxed) > 0;
 }
 
-void Server::publish(std::uint32_t channel, std::uint64_t time_ns, std::vector<std::uint8_t> data) {
+void Server::publish(std::uint32_t channel, std::uint64_t time_ns, const std::vector<std::uint8_t>& data) {
+  std::string framed(kHeadroom, '\0');
+  framed.append(data.begin(), data.end());
+  publish_framed(channel, time_ns, std::move(framed));
+}
+
+void Server::publish_framed(std::uint32_t channel, std::uint64_t time_ns, std::string framed) {
+  if (framed.size() < kHeadroom) throw std::invalid_argument("foxglove: a framed message needs its 13 free bytes");
   Impl::Out out;
   out.channel = channel;
   out.time_ns = time_ns;
-  out.data = std::move(data);
+  out.framed = std::move(framed);
   impl_->enqueue(std::move(out));
 }
 

@@ -73,7 +73,12 @@ class Server {
   bool subscribed(std::uint32_t channel) const;
   // Sends `data` to each client subscribed to `channel`, stamped `time_ns`.
   // Any thread; returns at once.
-  void publish(std::uint32_t channel, std::uint64_t time_ns, std::vector<std::uint8_t> data);
+  void publish(std::uint32_t channel, std::uint64_t time_ns, const std::vector<std::uint8_t>& data);
+  // As publish(), for data already behind kHeadroom free bytes, where the
+  // protocol's header goes: the bytes reach a client's socket uncopied (a
+  // 640x480 camera frame at 30 Hz is 28 MB/s).
+  void publish_framed(std::uint32_t channel, std::uint64_t time_ns, std::string framed);
+  static constexpr std::size_t kHeadroom = 13;  // op (1), subscription id (4), time (8)
   // The server's clock (the protocol's time message), in the messages' time base.
   void time(std::uint64_t time_ns);
 

@@ -122,6 +122,22 @@ std::vector<std::uint8_t> to_cdr(const T& sample) {
   return {payload.data, payload.data + payload.length};
 }
 
+// Appends a sample's CDR bytes to `out`: serialised in a buffer this
+// thread keeps for T, so that a large sample (a camera frame) costs no
+// allocation and one copy.
+template <class T>
+void append_cdr(const T& sample, std::string& out) {
+  auto& type = type_support<T>();
+  thread_local eprosima::fastrtps::rtps::SerializedPayload_t payload;
+  const std::uint32_t size = type.getSerializedSizeProvider(const_cast<T*>(&sample))();
+  if (payload.max_size < size) payload.reserve(size);
+  payload.length = 0;
+  payload.pos = 0;
+  if (!type.serialize(const_cast<T*>(&sample), &payload))
+    throw std::runtime_error(std::string("cannot serialize a ") + TopicOf<T>::name);
+  out.append(reinterpret_cast<const char*>(payload.data), payload.length);
+}
+
 template <class T>
 T from_cdr(const std::vector<std::uint8_t>& bytes) {
   auto& type = type_support<T>();
