@@ -85,7 +85,8 @@ struct Server::Impl {
 
   // The socket thread's own.
   std::map<Hdl, Client, std::owner_less<Hdl>> clients;
-  std::vector<Channel> channels;  // by id
+  std::vector<Channel> channels;                                       // by id
+  std::vector<std::pair<WsServer::connection_ptr, std::uint32_t>> to;  // flush(): a message's clients, subscriptions
 
   // Any thread.
   std::array<std::atomic<std::uint32_t>, kMaxChannels> subscribers{};
@@ -149,7 +150,7 @@ struct Server::Impl {
         continue;
       }
       // The clients it goes to: the last one takes the bytes, the others a copy.
-      std::vector<std::pair<WsServer::connection_ptr, std::uint32_t>> to;
+      to.clear();
       for (auto& [h, c] : clients) {
         std::uint32_t sub = 0;
         if (out.kind == Out::kMessage) {
