@@ -107,7 +107,7 @@ class Service {
   // DDS 2.9.1 can loop forever deleting a writer whose periodic heartbeat,
   // active while samples are unacknowledged, fires meanwhile (fixed in
   // 2.10, eProsima/Fast-DDS#4076; a lockstep writer's heartbeat comes every
-  // 0.1 ms). run() ends with it; a service with its own loop calls it last.
+  // 1 ms). run() ends with it; a service with its own loop calls it last.
   void settle();
 
   // Ends a real-time run after the current step (e.g. a video that has
