@@ -58,6 +58,9 @@ int record_topics(const RecordOptions& o) {
   std::cerr << "\n";
   if (const std::string lost = recorder.losses(); !lost.empty())
     std::cerr << "hcosim record: samples Fast DDS reports the recording never received: " << lost << "\n";
+  if (const std::string dropped = recorder.dropped(); !dropped.empty())
+    std::cerr << "hcosim record: samples dropped because the recording's file fell "
+              << (runtime::Recorder::kQueueBytes >> 20) << " MiB behind: " << dropped << "\n";
   return 0;
 }
 

@@ -247,6 +247,9 @@ int up(const UpOptions& o) {
     std::printf("\n");
     if (const std::string lost = recorder->losses(); !lost.empty())
       std::printf("hcosim up: samples Fast DDS reports the recording never received: %s\n", lost.c_str());
+    if (const std::string dropped = recorder->dropped(); !dropped.empty())
+      std::printf("hcosim up: samples dropped because the recording's file fell %zu MiB behind: %s\n",
+                  runtime::Recorder::kQueueBytes >> 20, dropped.c_str());
   }
   recorder.reset();
   status.reset();

@@ -1,5 +1,6 @@
 #include "services/runtime/recording.h"
 
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
@@ -9,6 +10,11 @@
 
 namespace hcosim::services::runtime {
 namespace {
+
+// Samples of a few hundred bytes arrive at up to a few kHz: a recorder's
+// writing thread wakes every 10 ms, or once a megabyte (a camera frame) waits.
+constexpr auto kWritePeriod = std::chrono::milliseconds(10);
+constexpr std::size_t kWakeBytes = std::size_t(1) << 20;
 
 constexpr char kMagic[8] = {'H', 'C', 'O', 'S', 'R', 'E', 'C', '1'};
 // Large enough for a 1280x720 bgr8 frame; a larger length means a corrupt file.
@@ -220,26 +226,13 @@ Recorder::Recorder(Participant& p, const std::string& path, const std::vector<st
   for (const std::string& t : topics) {
     if (!with_topic(t, [](auto) {})) throw std::invalid_argument("unknown topic '" + t + "'");
   }
+  thread_ = std::thread([this] { run(); });
   for_each_topic([&](auto tag) {
     using T = typename decltype(tag)::type;
     if (!topics.empty() && std::find(topics.begin(), topics.end(), TopicOf<T>::name) == topics.end()) return;
     // No validation: a recording keeps what was on the wire, bad samples included.
     auto reader = std::make_shared<Reader<T>>(p, nullptr, nullptr, TopicOf<T>::qos, kMonitorDepth);
-    auto take = [this, r = reader.get()] {
-      r->take([&](const T& s) {
-        Record rec = make_record(s, wall_ns());
-        std::lock_guard<std::mutex> l(m_);
-        writer_.write(rec);
-        if (!derive_) return;
-        try {
-          for (const Derived& d : derive_(rec)) writer_.write(d, rec.receive_ns, rec.publish_ns), ++derived_;
-        } catch (const std::exception& e) {
-          // On Fast DDS's thread nothing may escape: the topics go on, the scene stops.
-          std::fprintf(stderr, "hcosim: recording %s: no more scene channels: %s\n", path_.c_str(), e.what());
-          derive_ = nullptr;
-        }
-      });
-    };
+    auto take = [this, r = reader.get()] { r->take([&](const T& s) { push(make_record(s, wall_ns())); }); };
     reader->on_arrival(take);
     topics_.push_back({[reader, take] {
                          reader->on_arrival(nullptr);
@@ -247,6 +240,68 @@ Recorder::Recorder(Participant& p, const std::string& path, const std::vector<st
                        },
                        [reader] { return reader->lost(); }, TopicOf<T>::name});
   });
+}
+
+Recorder::~Recorder() {
+  try {
+    close();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hcosim: recording %s: %s\n", path_.c_str(), e.what());
+  }
+}
+
+void Recorder::push(Record&& r) {
+  const std::size_t bytes = sizeof r + r.topic.size() + r.cdr.size();
+  bool wake = false;
+  {
+    std::lock_guard<std::mutex> l(queue_m_);
+    if (queued_bytes_ + bytes > kQueueBytes) {
+      ++dropped_[r.topic];
+      return;
+    }
+    wake = queued_bytes_ < kWakeBytes && queued_bytes_ + bytes >= kWakeBytes;
+    queued_bytes_ += bytes;
+    queue_.push_back(std::move(r));
+  }
+  if (wake) queue_cv_.notify_one();
+}
+
+void Recorder::write(const Record& r) {
+  std::lock_guard<std::mutex> l(m_);
+  if (!error_.empty()) return;
+  try {
+    writer_.write(r);
+    if (!derive_) return;
+    try {
+      for (const Derived& d : derive_(r)) writer_.write(d, r.receive_ns, r.publish_ns), ++derived_;
+    } catch (const std::exception& e) {
+      // The topics go on, the scene stops.
+      std::fprintf(stderr, "hcosim: recording %s: no more scene channels: %s\n", path_.c_str(), e.what());
+      derive_ = nullptr;
+    }
+  } catch (const std::exception& e) {
+    error_ = e.what();
+  }
+}
+
+void Recorder::run() {
+  std::vector<Record> batch;
+  for (bool last = false; !last;) {
+    {
+      std::unique_lock<std::mutex> l(queue_m_);
+      queue_cv_.wait_for(l, kWritePeriod, [&] { return closing_ || queued_bytes_ >= kWakeBytes; });
+      batch.swap(queue_);
+      last = closing_;
+    }
+    std::size_t bytes = 0;
+    for (const Record& r : batch) {
+      write(r);
+      bytes += sizeof r + r.topic.size() + r.cdr.size();
+    }
+    batch.clear();
+    std::lock_guard<std::mutex> l(queue_m_);
+    queued_bytes_ -= bytes;
+  }
 }
 
 std::uint64_t Recorder::samples() const {
@@ -267,10 +322,25 @@ std::string Recorder::losses() const {
   return out;
 }
 
+std::string Recorder::dropped() const {
+  std::lock_guard<std::mutex> l(queue_m_);
+  std::string out;
+  for (const auto& [topic, n] : dropped_) out += (out.empty() ? "" : ", ") + topic + " " + std::to_string(n);
+  return out;
+}
+
 void Recorder::close() {
+  if (!thread_.joinable()) return;
   for (auto& t : topics_) t.stop();
   losses_ = losses();
   topics_.clear();
+  {
+    std::lock_guard<std::mutex> l(queue_m_);
+    closing_ = true;
+  }
+  queue_cv_.notify_one();
+  thread_.join();
+  if (!error_.empty()) throw std::runtime_error(path_ + ": writing the recording failed: " + error_);
   writer_.close();
 }
 

@@ -4,6 +4,7 @@
 // channel and its IDL type the channel's schema. Both in docs/recording.md.
 #pragma once
 
+#include <condition_variable>
 #include <cstdint>
 #include <fstream>
 #include <functional>
@@ -11,6 +12,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <thread>
 #include <type_traits>
 #include <vector>
 
@@ -38,7 +40,7 @@ struct Derived {
   const char* schema_text = "";   // its self-contained OMG IDL
   std::vector<std::uint8_t> cdr;  // encapsulation header first
 };
-// What a record gives; called with the recorder's lock held.
+// What a record gives; called on the recorder's writing thread.
 using Derive = std::function<std::vector<Derived>(const Record&)>;
 
 enum class RecordingFormat { hcosim, mcap };
@@ -179,10 +181,14 @@ Record make_record(const T& s, std::int64_t receive_ns) {
   return r;
 }
 
-// Subscribes to topics of the contract and writes every sample as it
-// arrives, on Fast DDS's receiving thread: a reader's history never fills
-// behind a late poll (a burst that a stalled recorder's shared-memory port
-// held would overwrite samples there, which Fast DDS does not count lost).
+// Subscribes to topics of the contract and records every sample: Fast
+// DDS's receiving threads take each as it arrives and queue it, and one
+// thread of the recorder writes the queue to the file. So a reader's
+// history never fills behind a late poll (a burst that a stalled
+// recorder's shared-memory port held would overwrite samples there, which
+// Fast DDS does not count lost), and a file that stalls (a disk falling
+// behind) holds up no receiving thread: while its writer no longer holds
+// a sample, a reliable topic's loss could not be repaired.
 class Recorder {
  public:
   // `topics` empty: every topic. Throws std::invalid_argument naming an
@@ -192,13 +198,21 @@ class Recorder {
   // `derive` (MCAP only): messages each record gives, written after it.
   Recorder(Participant& p, const std::string& path, const std::vector<std::string>& topics, RecordingFormat format,
            McapCompression compression, Derive derive = nullptr);
-  // Stops recording, writes what is left and closes the file.
+  ~Recorder();
+  // Stops recording, writes what is left and closes the file. Throws
+  // std::runtime_error when writing it failed.
   void close();
-  std::uint64_t samples() const;  // of the topics
+  std::uint64_t samples() const;  // of the topics, written
   std::uint64_t derived() const;  // messages derived from them
   // Samples Fast DDS reports the readers will never receive, per topic,
   // as "Topic N, ..."; empty when none. After close(), those at close().
   std::string losses() const;
+  // Samples dropped because the file fell kQueueBytes behind, likewise.
+  std::string dropped() const;
+
+  // What may wait for the file before samples are dropped: 11 s of the
+  // default scene's camera frames alone (640x480x3 bytes at 25 Hz).
+  static constexpr std::size_t kQueueBytes = std::size_t(256) << 20;
 
  private:
   struct Topic {
@@ -206,13 +220,26 @@ class Recorder {
     std::function<std::uint64_t()> lost;
     std::string name;
   };
-  mutable std::mutex m_;  // writer_: several receiving threads write to it
+  void push(Record&& r);  // on a receiving thread
+  void write(const Record& r);
+  void run();  // the writing thread
+
+  mutable std::mutex m_;  // writer_, derive_, derived_, error_
   std::string path_;
   RecordingWriter writer_;
   Derive derive_;
   std::uint64_t derived_ = 0;
+  std::string error_;          // the first failure to write
   std::vector<Topic> topics_;  // each owning its reader
   std::string losses_;         // losses() at close()
+
+  mutable std::mutex queue_m_;  // the rest
+  std::condition_variable queue_cv_;
+  std::vector<Record> queue_;
+  std::size_t queued_bytes_ = 0;
+  bool closing_ = false;
+  std::map<std::string, std::uint64_t> dropped_;  // by topic
+  std::thread thread_;
 };
 
 }  // namespace hcosim::services::runtime
