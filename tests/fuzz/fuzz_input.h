@@ -17,11 +17,15 @@ namespace hcosim::fuzz {
 
 // A file holding `data`, rewritten for every input; `ext` for parsers that
 // go by the name (OpenCV's FileStorage).
+// Removed when the fuzzer exits.
 inline std::string scratch(const std::uint8_t* data, std::size_t size, const std::string& ext) {
-  static const std::string path = "/tmp/hcosim_fuzz_" + std::to_string(getpid()) + ext;
-  std::ofstream(path, std::ios::binary | std::ios::trunc)
+  static const struct File {
+    std::string path;
+    ~File() { std::remove(path.c_str()); }
+  } file{"/tmp/hcosim_fuzz_" + std::to_string(getpid()) + ext};
+  std::ofstream(file.path, std::ios::binary | std::ios::trunc)
       .write(reinterpret_cast<const char*>(data), std::streamsize(size));
-  return path;
+  return file.path;
 }
 
 // Runs `parse`; an exception is a refusal and must say what was wrong.

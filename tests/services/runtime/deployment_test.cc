@@ -9,8 +9,15 @@
 namespace hcosim::services::runtime {
 namespace {
 
+// `text` as `name` in this process's folder of files, removed at its exit.
 std::string write_file(const std::string& name, const std::string& text) {
-  const auto path = std::filesystem::temp_directory_path() / ("hcosim_" + std::to_string(getpid()) + "_" + name);
+  static const struct Folder {
+    std::filesystem::path path =
+        std::filesystem::temp_directory_path() / ("hcosim_deployment_test_" + std::to_string(getpid()));
+    Folder() { std::filesystem::create_directories(path); }
+    ~Folder() { std::filesystem::remove_all(path); }
+  } folder;
+  const auto path = folder.path / name;
   std::ofstream(path) << text;
   return path.string();
 }
