@@ -170,7 +170,9 @@ Row seen_row(const std::string& body, const HybridSpec& s, const std::vector<Eig
   }
   return {"seen_vs_felt",
           {{"body", body}, {"points", double(points.size())}},
-          {{"min_ratio", *std::min_element(ratio.begin(), ratio.end())}, {"median_ratio", quantile(ratio, 0.5)}}};
+          {{"min_ratio", *std::min_element(ratio.begin(), ratio.end())},
+           {"median_ratio", quantile(ratio, 0.5)},
+           {"max_ratio", *std::max_element(ratio.begin(), ratio.end())}}};
 }
 
 // The hybrid cube's behavior models against a continuum (issue 26 item 3):
@@ -424,9 +426,11 @@ std::vector<Row> hybrid_rows(const Context& c) {
     cube.size = 0.03, cube.centre = Eigen::Vector3d(0, 0, 0.015);
     const double q = 0.25 * cube.size;
     rows.push_back(seen_row("cube", cube, {{0, 0}, {q, 0}, {-q, q}, {0, -q}}));
-    // The organ's right lobe, its middle and its stiff left lobe.
-    rows.push_back(
-        seen_row("organ", organ_spec(), {{-0.012, 0}, {-0.006, 0.004}, {0, 0}, {0.006, -0.002}, {0.012, 0}}));
+    // The organ every 2 mm along its length, from its soft right lobe
+    // across the middle to its stiff left lobe, and off that line.
+    std::vector<Eigen::Vector2d> line = {{-0.006, 0.004}, {0.006, 0.004}};
+    for (int k = -8; k <= 8; ++k) line.push_back({0.002 * k, -0.002});
+    rows.push_back(seen_row("organ", organ_spec(), line));
   }
   for (Row& r : against_fem_rows(c.quick)) rows.push_back(std::move(r));
   progress("hybrid visual maps on a known deformation");
@@ -485,7 +489,9 @@ Suite hybrid_suite() {
        "What is seen against what is felt, on the default scene's cube (3 cm) and organ (the liver, 4.5 cm, 16 nodes "
        "along it, its stiff lobe at +x): pressed from above at each of `points` points, 4 mm past the drawn surface "
        "and held 1.2 s, how far the drawn surface sank under the proxy over the stylus's depth past it (1: the "
-       "surface follows the stylus; less: the stylus is drawn inside the object); the smallest and the median."},
+       "surface follows the stylus; less: the stylus is drawn inside the object; more: the surface sinks past it); the "
+       "smallest, the median and the largest. The cube at its centre and three points a quarter of its size off; the "
+       "organ every 2 mm along its length 2 mm off its middle line, and two points 4 mm to the other side."},
       {"force_vs_behavior",
        "The force felt (the S-Chain's times the force gain, models/deformable/hybrid.h) against the behavior "
        "model's static force at the same depth, 0.5 to 25 mm at the top centre: the largest relative difference "
