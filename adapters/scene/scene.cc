@@ -256,7 +256,7 @@ std::vector<Message> Builder::on(const CameraFrame& f) {
   foxglove::CompressedImage image;
   image.timestamp(time_of(f.stamp()));
   image.frame_id(f.camera().to_string());
-  const std::vector<unsigned char> jpeg = vision::encode_jpeg(vision::bgr_image(f), options_.jpeg_quality);
+  const std::vector<unsigned char> jpeg = vision::encode_jpeg(vision::pixels(f), options_.jpeg_quality);
   image.data().assign(jpeg.begin(), jpeg.end());
   image.format("jpeg");
   const ChannelOf c = channel(f);

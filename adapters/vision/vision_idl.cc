@@ -65,13 +65,16 @@ CameraFrame camera_frame(const std::string& camera, const StepStamp& stamp, std:
   return f;
 }
 
-cv::Mat bgr_image(const CameraFrame& f) {
+cv::Mat pixels(const CameraFrame& f) {
   if (auto problem = validate(f)) throw std::invalid_argument("camera frame: " + *problem);
   const bool mono = f.encoding().to_string() == "mono8";
-  const cv::Mat wrapped(int(f.height()), int(f.width()), mono ? CV_8UC1 : CV_8UC3,
-                        const_cast<std::uint8_t*>(f.data().data()));
+  return cv::Mat(int(f.height()), int(f.width()), mono ? CV_8UC1 : CV_8UC3, const_cast<std::uint8_t*>(f.data().data()));
+}
+
+cv::Mat bgr_image(const CameraFrame& f) {
+  const cv::Mat wrapped = pixels(f);
   cv::Mat bgr;
-  if (mono)
+  if (wrapped.channels() == 1)
     cv::cvtColor(wrapped, bgr, cv::COLOR_GRAY2BGR);
   else
     bgr = wrapped.clone();

@@ -31,6 +31,9 @@ CameraFrame camera_frame(const std::string& camera, const StepStamp& stamp, std:
 // A frame's pixels as 8-bit BGR (mono8 converted) and its intrinsics.
 // Throws std::invalid_argument for a frame validate() would refuse.
 cv::Mat bgr_image(const CameraFrame& f);
+// Its pixels where they lie, CV_8UC3 (bgr8) or CV_8UC1 (mono8), not to be
+// written to: valid while `f` is. Throws as bgr_image.
+cv::Mat pixels(const CameraFrame& f);
 models::vision::Intrinsics intrinsics(const CameraFrame& f);
 
 }  // namespace hcosim::adapters::vision

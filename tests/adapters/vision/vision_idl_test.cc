@@ -51,5 +51,19 @@ TEST(VisionIdl, CameraFrameCopiesPixelsOfARegionWithoutItsPadding) {
   EXPECT_THROW(camera_frame("cam", StepStamp(), 0, cv::Mat(4, 4, CV_16UC1), k), std::invalid_argument);
 }
 
+TEST(VisionIdl, PixelsAreTheFramesOwnBytes) {
+  const Intrinsics k = synthetic_intrinsics(64, 48);
+  for (const int type : {CV_8UC3, CV_8UC1}) {
+    const CameraFrame f = camera_frame("cam", StepStamp(), 0, cv::Mat(48, 64, type, cv::Scalar::all(7)), k);
+    const cv::Mat p = pixels(f);
+    EXPECT_EQ(p.type(), type);
+    EXPECT_EQ(p.size(), cv::Size(64, 48));
+    EXPECT_EQ(p.data, f.data().data());  // no copy
+  }
+  CameraFrame cut = camera_frame("cam", StepStamp(), 0, cv::Mat(48, 64, CV_8UC3), k);
+  cut.data().resize(10);
+  EXPECT_THROW(pixels(cut), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace hcosim::adapters::vision
