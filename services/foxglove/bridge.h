@@ -53,9 +53,8 @@ class Bridge {
   // One sample to draw, with the time of the messages it gives.
   using Draw = std::function<std::vector<adapters::scene::Message>(adapters::scene::Builder&)>;
 
-  // `s` is the reader's, moved from when it is to be drawn.
   template <class T>
-  void take(T& s, std::uint32_t raw);
+  void take(const T& s, std::uint32_t raw);
   std::uint32_t scene_channel(const adapters::scene::ChannelOf& c);
   void draw_loop();
 
