@@ -2,6 +2,9 @@
 // docs/topics.md is the prose version of this table; keep them together.
 #pragma once
 
+#include <algorithm>
+#include <cstddef>
+#include <cstring>
 #include <string_view>
 #include <tuple>
 
@@ -14,13 +17,32 @@
 
 namespace hcosim::services::runtime {
 
+// Fast DDS 2.9's generated type support hashes a key as serialized into a
+// buffer it keeps, and CDR skips the alignment padding between key
+// members, so the padding held bytes of the key hashed before: an
+// instance had a new handle whenever another key had been hashed between
+// (ForceFeedback's source then device; MarkerPose's camera then tag). A
+// reliable writer's history then kept a sample of an instance that was
+// never written again, every heartbeat carried a GAP from it to the
+// newest sample, and a remote reader walks a GAP one sequence number at a
+// time: lockstep between hosts crawled (docs/cosimulation.md). This zeroes
+// the buffer first; DDS-XTypes' key hash has zero padding too.
+template <class Generated>
+struct KeyedPubSubType : Generated {
+  bool getKey(void* data, eprosima::fastrtps::rtps::InstanceHandle_t* handle, bool force_md5 = false) override {
+    if (this->m_isGetKeyDefined)
+      std::memset(this->m_keyBuffer, 0, std::max<std::size_t>(Generated::type::getKeyMaxCdrSerializedSize(), 16));
+    return Generated::getKey(data, handle, force_md5);
+  }
+};
+
 template <class T>
 struct TopicOf;
 
 #define HCOSIM_TOPIC(Type, topic_name, profile)                \
   template <>                                                  \
   struct TopicOf<Type> {                                       \
-    using PubSub = Type##PubSubType;                           \
+    using PubSub = KeyedPubSubType<Type##PubSubType>;          \
     static constexpr const char* name = topic_name;            \
     static constexpr const char* type_name = "hcosim::" #Type; \
     static constexpr const char* qos = profile;                \

@@ -29,6 +29,35 @@ TEST(Topics, NamesAreUniqueAndFindable) {
   EXPECT_FALSE(with_topic("NoSuchTopic", [](auto) {}));
 }
 
+// One instance, one handle, whatever key was hashed before (KeyedPubSubType):
+// the same handle as a type support that hashes it first, whose key buffer
+// is all zeros as DDS-XTypes' key hash has it.
+template <class T>
+void expect_one_handle(const T& a, const T& b) {
+  using eprosima::fastrtps::rtps::InstanceHandle_t;
+  typename TopicOf<T>::PubSub fresh, used;
+  InstanceHandle_t reference, first, other, again;
+  ASSERT_TRUE(fresh.getKey(const_cast<T*>(&a), &reference));
+  used.getKey(const_cast<T*>(&a), &first);
+  used.getKey(const_cast<T*>(&b), &other);
+  used.getKey(const_cast<T*>(&a), &again);
+  EXPECT_EQ(first, reference);
+  EXPECT_EQ(again, reference);
+  EXPECT_NE(other, reference);
+}
+
+TEST(Topics, AnInstancesHandleDoesNotDependOnTheKeyHashedBefore) {
+  // Keys whose first member's length leaves padding before the next.
+  ForceFeedback live, b;
+  live.source("live"), live.device("omni");
+  b.source("b"), b.device("omni");
+  expect_one_handle(live, b);
+  MarkerPose cam, left;
+  cam.camera("cam1"), cam.tag_id(3);
+  left.camera("left_camera"), left.tag_id(3);
+  expect_one_handle(cam, left);
+}
+
 TEST(Topics, ProfilesFollowTheContract) {
   EXPECT_STREQ(TopicOf<HapticState>::qos, "control");
   EXPECT_STREQ(TopicOf<ForceFeedback>::qos, "control");
