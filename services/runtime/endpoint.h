@@ -42,6 +42,22 @@ constexpr bool durable_in_lockstep() {
   return std::is_same_v<T, HapticState>;
 }
 
+// In lockstep the step protocol's writers (ClockTick, StepDone) are TRANSIENT_LOCAL
+// too, though their readers are not. A VOLATILE reliable writer removes
+// each sample once every reader has acknowledged it, and Fast DDS 2.9.1
+// at times misses one; the history kept that short, KEEP_LAST never pushes
+// the missed one out, and every heartbeat then carries a GAP from it to the
+// newest sample, which each reader walks one sequence number at a time: a
+// lockstep run between hosts crawled (docs/cosimulation.md, "A crawl";
+// ClockTick's writer in a packet capture). A TRANSIENT_LOCAL writer keeps
+// its last samples, in order. Only for writers whose instances are written
+// at one rate: a body asleep, published once a second, would leave holes
+// between its samples as wide as that.
+template <class T>
+constexpr bool kept_in_lockstep() {
+  return std::is_same_v<T, ClockTick> || std::is_same_v<T, StepDone>;
+}
+
 // Heartbeat period of paced writers (see Writer::caught_up).
 inline constexpr std::chrono::milliseconds kPacedHeartbeat{20};
 
@@ -98,7 +114,8 @@ class Writer {
       // send in answer to a heartbeat: the default 3 s period would make
       // each step last that long.
       qos.reliable_writer_qos().times.heartbeatPeriod = eprosima::fastrtps::Duration_t(0, kLockstepHeartbeatNs);
-      if (durable_in_lockstep<T>()) qos.durability().kind = eprosima::fastdds::dds::TRANSIENT_LOCAL_DURABILITY_QOS;
+      if (durable_in_lockstep<T>() || kept_in_lockstep<T>())
+        qos.durability().kind = eprosima::fastdds::dds::TRANSIENT_LOCAL_DURABILITY_QOS;
       writer_ = p.publisher()->create_datawriter(p.topic<T>(), qos, &matches_, match_mask());
     } else if (paced_) {
       eprosima::fastdds::dds::DataWriterQos qos;

@@ -46,6 +46,45 @@ TEST(Participant, LockstepReadersHoldSamplesUntilTheirStep) {
   EXPECT_EQ(got, (std::vector<std::uint64_t>{3, 5}));
 }
 
+// In lockstep the step protocol's writers keep their last samples once
+// acknowledged (TRANSIENT_LOCAL, endpoint.h: kept_in_lockstep), which a
+// durable reader joining later receives, in order; other state writers
+// remove them (VOLATILE), and such a reader does not even match them.
+TEST(Participant, LockstepClockWritersKeepTheirLastSamples) {
+  using namespace eprosima::fastdds::dds;
+  Participant p(kDomain, "unit_kept", default_qos_file(), nullptr, true);
+  Reader<ClockTick> now(p);
+  Writer<ClockTick> ticks(p);
+  Writer<RigidBodyState> bodies(p);
+  const std::int64_t deadline = mono_ns() + 5'000'000'000;
+  while (ticks.matched() < 1 && mono_ns() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  for (std::uint64_t step = 0; step < 20; ++step) {
+    ClockTick t;
+    t.step(step);
+    ticks.write(t);
+    ASSERT_TRUE(ticks.wait_acknowledged(std::chrono::seconds(5)));
+  }
+  DataReaderQos qos;
+  p.subscriber()->get_datareader_qos_from_profile("sequence", qos);
+  qos.reliability().kind = RELIABLE_RELIABILITY_QOS;
+  qos.durability().kind = TRANSIENT_LOCAL_DURABILITY_QOS;
+  DataReader* late = p.subscriber()->create_datareader(p.topic<ClockTick>(), qos);
+  DataReader* late_bodies = p.subscriber()->create_datareader(p.topic<RigidBodyState>(), qos);
+  ASSERT_TRUE(late && late_bodies);
+  std::vector<std::uint64_t> got;
+  ClockTick t;
+  SampleInfo info;
+  while (got.size() < 8 && mono_ns() < deadline + 5'000'000'000) {
+    while (late->take_next_sample(&t, &info) == ReturnCode_t::RETCODE_OK)
+      if (info.valid_data) got.push_back(t.step());
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_EQ(got, (std::vector<std::uint64_t>{12, 13, 14, 15, 16, 17, 18, 19}));  // "sequence": KEEP_LAST 8
+  EXPECT_EQ(bodies.matched(), 0);
+  p.subscriber()->delete_datareader(late);
+  p.subscriber()->delete_datareader(late_bodies);
+}
+
 // Under the network's bulk cap, large samples' writers send paced (through
 // its flow controller), the haptic topics' never; without it, none is.
 TEST(Participant, TheBulkCapPacesLargeSamplesOnly) {
