@@ -16,6 +16,9 @@ namespace {
 constexpr auto kWritePeriod = std::chrono::milliseconds(10);
 constexpr std::size_t kWakeBytes = std::size_t(1) << 20;
 
+// What a queued record holds in memory, about.
+std::size_t bytes_of(const Record& r) { return sizeof r + r.topic.size() + r.cdr.size(); }
+
 constexpr char kMagic[8] = {'H', 'C', 'O', 'S', 'R', 'E', 'C', '1'};
 // Large enough for a 1280x720 bgr8 frame; a larger length means a corrupt file.
 constexpr std::uint32_t kMaxRecord = 64u << 20;
@@ -226,7 +229,6 @@ Recorder::Recorder(Participant& p, const std::string& path, const std::vector<st
   for (const std::string& t : topics) {
     if (!with_topic(t, [](auto) {})) throw std::invalid_argument("unknown topic '" + t + "'");
   }
-  thread_ = std::thread([this] { run(); });
   for_each_topic([&](auto tag) {
     using T = typename decltype(tag)::type;
     if (!topics.empty() && std::find(topics.begin(), topics.end(), TopicOf<T>::name) == topics.end()) return;
@@ -240,6 +242,9 @@ Recorder::Recorder(Participant& p, const std::string& path, const std::vector<st
                        },
                        [reader] { return reader->lost(); }, TopicOf<T>::name});
   });
+  // Last, so that nothing above throws with it running; what arrives
+  // before it starts waits in the queue.
+  thread_ = std::thread([this] { run(); });
 }
 
 Recorder::~Recorder() {
@@ -251,7 +256,7 @@ Recorder::~Recorder() {
 }
 
 void Recorder::push(Record&& r) {
-  const std::size_t bytes = sizeof r + r.topic.size() + r.cdr.size();
+  const std::size_t bytes = bytes_of(r);
   bool wake = false;
   {
     std::lock_guard<std::mutex> l(queue_m_);
@@ -296,7 +301,7 @@ void Recorder::run() {
     std::size_t bytes = 0;
     for (const Record& r : batch) {
       write(r);
-      bytes += sizeof r + r.topic.size() + r.cdr.size();
+      bytes += bytes_of(r);
     }
     batch.clear();
     std::lock_guard<std::mutex> l(queue_m_);
