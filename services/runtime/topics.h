@@ -23,10 +23,10 @@ namespace hcosim::services::runtime {
 // instance had a new handle whenever another key had been hashed between
 // (ForceFeedback's source then device; MarkerPose's camera then tag). A
 // reliable writer's history then kept a sample of an instance that was
-// never written again, every heartbeat carried a GAP from it to the
-// newest sample, and a remote reader walks a GAP one sequence number at a
-// time: lockstep between hosts crawled (docs/cosimulation.md). This zeroes
-// the buffer first; DDS-XTypes' key hash has zero padding too.
+// never written again, and every heartbeat carried a GAP from it to the
+// newest sample, which a remote reader walks one sequence number at a
+// time (docs/cosimulation.md, "A crawl"). This zeroes the buffer first;
+// DDS-XTypes' key hash has zero padding too.
 template <class Generated>
 struct KeyedPubSubType : Generated {
   bool getKey(void* data, eprosima::fastrtps::rtps::InstanceHandle_t* handle, bool force_md5 = false) override {
