@@ -45,8 +45,8 @@ constexpr bool durable_in_lockstep() {
 // In lockstep the step protocol's writers (ClockTick, StepDone) are TRANSIENT_LOCAL
 // too, though their readers are not. A VOLATILE reliable writer removes
 // each sample once every reader has acknowledged it, and Fast DDS 2.9.1
-// at times misses one; the history kept that short, KEEP_LAST never pushes
-// the missed one out, and every heartbeat then carries a GAP from it to the
+// seems at times to skip one; the history kept that short, KEEP_LAST never
+// pushes the skipped one out, and every heartbeat then carries a GAP from it to the
 // newest sample, which each reader walks one sequence number at a time: a
 // lockstep run between hosts crawled (docs/cosimulation.md, "A crawl";
 // ClockTick's writer in a packet capture). A TRANSIENT_LOCAL writer keeps
