@@ -9,7 +9,7 @@
 //   the sample's stamp.wall_time_ns set just before write, pooled over the
 //   readers; loss_ratio counts samples written but not taken; cpu_pct is the
 //   CPU time of the writer's and every reader's process over the writing
-//   window, in % of one core. Each configuration runs in rounds (2 of 120
+//   window, in % of one core. Each configuration runs in rounds (2 of 60
 //   samples quick, 6 of 200 full), the impls taking turns to go first;
 //   figures pool every round. p99_split_ratio compares one impl's p99 over
 //   its odd rounds with that over its even ones (the larger over the
@@ -596,7 +596,7 @@ std::vector<Row> dds_rows(const Context& c) {
 
   // Rounds alternate which impl goes first, so that a machine growing
   // busier or quieter during a configuration favours neither.
-  const int count = c.quick ? 120 : 200, rounds = c.quick ? 2 : 6;
+  const int count = c.quick ? 60 : 200, rounds = c.quick ? 2 : 6;
   for (const int vertices : {1000, 10000, 100000})
     for (const int readers : {1, 3}) {
       MeshTotals bare_t, ours_t;
@@ -815,7 +815,7 @@ std::vector<Row> hosts_rows(const Context& c, double seconds, int count, int rou
 // One host's rows, then the rows between hosts.
 std::vector<Row> all_rows(const Context& c) {
   std::vector<Row> rows = dds_rows(c);
-  for (Row& r : hosts_rows(c, c.quick ? 5 : 30, c.quick ? 120 : 200, c.quick ? 2 : 6)) rows.push_back(std::move(r));
+  for (Row& r : hosts_rows(c, c.quick ? 5 : 30, c.quick ? 60 : 200, c.quick ? 2 : 6)) rows.push_back(std::move(r));
   return rows;
 }
 

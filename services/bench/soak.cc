@@ -1,5 +1,5 @@
 // bench soak: the default deployment (deploy/default.yaml: its scene and
-// services) in real time for 30 minutes (1 with --quick), its virtual
+// services) in real time for 30 minutes (30 s with --quick), its virtual
 // user's tour played again and again, watched from a participant of the
 // bench's own.
 //
@@ -68,7 +68,7 @@ std::string tail(const fs::path& log) {
 }
 
 std::vector<Row> soak_rows(const Context& c) {
-  const double total = c.quick ? 60 : 1800, window = c.quick ? 10 : 60;
+  const double total = c.quick ? 30 : 1800, window = c.quick ? 10 : 60;
   // Absolute: the deployment names the script, read from its own folder.
   const fs::path dir = fs::absolute(c.out / "soak_run");
   fs::create_directories(dir);
@@ -255,7 +255,7 @@ fs::path default_deployment(const fs::path& dir, int domain, double seconds, dou
 
 Suite soak_suite() {
   Suite s{"soak",
-          "the default deployment in real time for 30 min (1 with --quick): memory, loss, overruns, haptic "
+          "the default deployment in real time for 30 min (30 s with --quick): memory, loss, overruns, haptic "
           "round trip over time",
           soak_rows};
   s.alone = true;

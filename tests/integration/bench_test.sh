@@ -35,7 +35,7 @@ problems=$(jq -r '
         elif ($m.loss_ratio | type) != "number" then "mesh_pub \($v) \($s) \($i): no loss_ratio"
         elif $i == "hcosim" and $v <= 10000 and $m.loss_ratio != 0
           then "mesh_pub \($v) \($s): hcosim lost \($m.loss_ratio) of the samples (RELIABLE)"
-        elif $m.samples != 240 * $s then "mesh_pub \($v) \($s) \($i): \($m.samples) samples, not \(240 * $s)"
+        elif $m.samples != 120 * $s then "mesh_pub \($v) \($s) \($i): \($m.samples) samples, not \(120 * $s)"
         elif $i == "hcosim" and ($m.p99_ratio_to_bare | type) != "number" then "mesh_pub \($v) \($s): no ratio to bare"
         else empty end])
   | .[]' "$f") || fail "jq could not read $f"
@@ -62,7 +62,7 @@ else
     ([("bare", "hcosim") as $i | ("p50_us", "p99_us") as $k
       | select((row("rtt_hosts"; $i)[$k] | type) != "number") | "rtt_hosts \($i): no \($k)"]
      + [if (row("rtt_hosts"; "hcosim").p99_ratio_to_bare | type) != "number" then "rtt_hosts: no ratio to bare" else empty end]
-     + large("mesh_hosts"; 480; "the 10^5-vertex meshes") + large("frame_hosts"; 240; "the camera frames"))
+     + large("mesh_hosts"; 240; "the 10^5-vertex meshes") + large("frame_hosts"; 120; "the camera frames"))
     | .[]' "$f") || fail "jq could not read $f"
   [ -z "$problems" ] || fail "dds rows between hosts: $problems; $(grep -F missed "$WORK/bench.log" | head -6)"
   for t in mesh_hosts frame_hosts; do grep -q "^### $t$" "$WORK/b/index.md" || fail "no $t table"; done
