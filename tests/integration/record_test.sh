@@ -52,11 +52,12 @@ forces=$("$BIN/hcosim" export "$WORK/probe.rec" --topic ForceFeedback 2>/dev/nul
 # writer keeps only its last 16 samples to repair a loss with. The
 # recorder must have matched the probe before it is stopped: under
 # sanitizers and a parallel test it can take more than 2 s to start.
+# Each recording lasts that wait, the 2.5 s stop and 1.5 s more.
 lost_report=""
 for profile in control state; do
   probe "fast_$profile" 1000 source ", profile: $profile"
   source_pid=${PIDS[-1]}
-  start "rec_$profile" "$BIN/hcosim" record "$WORK/$profile.rec" --topics HapticState --duration $((6 * SLOWDOWN))
+  start "rec_$profile" "$BIN/hcosim" record "$WORK/$profile.rec" --topics HapticState --duration $((2 * SLOWDOWN + 4))
   rec=${PIDS[-1]}
   sleep $((2 * SLOWDOWN))
   kill -STOP "$rec"
@@ -83,7 +84,7 @@ mkfifo "$WORK/stall.fifo"
 cat "$WORK/stall.fifo" >"$WORK/stall.rec" &
 PIDS+=($!)
 drain=$!
-start rec_stall "$BIN/hcosim" record "$WORK/stall.fifo" --topics HapticState --duration $((6 * SLOWDOWN))
+start rec_stall "$BIN/hcosim" record "$WORK/stall.fifo" --topics HapticState --duration $((2 * SLOWDOWN + 4))
 rec=${PIDS[-1]}
 sleep $((2 * SLOWDOWN))
 kill -STOP "$drain"
