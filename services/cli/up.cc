@@ -39,8 +39,13 @@ class Discovered : public eprosima::fastdds::dds::DomainParticipantListener {
   explicit Discovered(Watcher& w) : watcher_(w) {}
   void on_participant_discovery(eprosima::fastdds::dds::DomainParticipant*,
                                 eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
-    if (info.status == eprosima::fastrtps::rtps::ParticipantDiscoveryInfo::DISCOVERED_PARTICIPANT)
-      watcher_.joined(info.info.m_participantName.to_string());
+    if (info.status != eprosima::fastrtps::rtps::ParticipantDiscoveryInfo::DISCOVERED_PARTICIPANT) return;
+    std::ostringstream where;
+    where << info.info.m_guid.guidPrefix << ", discovery at";
+    for (const auto& l : info.info.metatraffic_locators.unicast) where << ' ' << l;
+    where << ", data at";
+    for (const auto& l : info.info.default_locators.unicast) where << ' ' << l;
+    watcher_.joined(info.info.m_participantName.to_string(), where.str());
   }
 
  private:

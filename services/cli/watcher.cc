@@ -27,9 +27,9 @@ std::string missing(const std::vector<std::string>& names, Has has) {
 Watcher::Watcher(std::vector<std::string> names, int domain, bool tty)
     : names_(std::move(names)), domain_(domain), tty_(tty) {}
 
-void Watcher::joined(const std::string& participant) {
+void Watcher::joined(const std::string& participant, const std::string& where) {
   std::lock_guard<std::mutex> l(joined_mutex_);
-  joined_.insert(participant);
+  joined_[participant] = where;
 }
 
 void Watcher::status(const ServiceStatus& s) {
@@ -83,6 +83,9 @@ std::string Watcher::update(double waited_s, std::int64_t now_ns) {
     } else if (!start_warned_ && all_joined_ && waited_s > kJoinWaitS) {
       start_warned_ = true;
       out += finish() + text("hcosim up: still starting after %.0f s: ", kJoinWaitS) + starting + "\n";
+      std::lock_guard<std::mutex> l(joined_mutex_);
+      for (const auto& [name, where] : joined_)
+        if (!where.empty()) out += "hcosim up:   participant " + name + " " + where + "\n";
     }
   }
   return out + progress(now_ns);

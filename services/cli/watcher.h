@@ -22,8 +22,11 @@ class Watcher {
   // `tty`: the progress line is rewritten in place, else a new line every kLogProgressS.
   Watcher(std::vector<std::string> names, int domain, bool tty);
 
-  // A participant discovered on the domain (from Fast DDS's thread).
-  void joined(const std::string& participant);
+  // A participant discovered on the domain (from Fast DDS's thread), and
+  // `where` it says it listens (its GUID and unicast locators), which the
+  // warning that a service still starts repeats for every participant: a
+  // service that joined but is never heard from may share its ports.
+  void joined(const std::string& participant, const std::string& where = "");
   // One ServiceStatus sample (validated).
   void status(const ServiceStatus& s);
 
@@ -49,7 +52,7 @@ class Watcher {
   int domain_;
   bool tty_;
   std::mutex joined_mutex_;
-  std::set<std::string> joined_;
+  std::map<std::string, std::string> joined_;  // participant name: where it listens
   std::map<std::string, ServiceStatus> latest_;
   std::set<std::string> ran_;
   std::string scheduling_;                    // services' scheduling lines not yet printed

@@ -15,6 +15,11 @@ code=$?
 [ $code -eq 0 ] || fail "up exited $code"
 grep -q "every service joined domain $DOMAIN" "$WORK/up.log" || fail "no join line"
 grep -q "still starting after 10 s: slow$" "$WORK/up.log" || fail "up did not name the service still starting"
+# Then where each participant listens: its GUID prefix and unicast locators.
+for p in slow quick; do
+  grep -qE "^hcosim up:   participant $p [0-9a-f.]+, discovery at .*:[0-9]+, data at .*:[0-9]+$" "$WORK/up.log" ||
+    fail "up did not say where $p listens"
+done
 after=$(sed -nE 's/^hcosim up: every service running after ([0-9.]+) s$/\1/p' "$WORK/up.log")
 [ -n "$after" ] || fail "no 'every service running' line"
 awk -v t="$after" 'BEGIN { exit !(t >= 11 && t < 20) }' || fail "every service running after $after s, expected 11 to 20"

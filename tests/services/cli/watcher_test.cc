@@ -52,6 +52,23 @@ TEST(Watcher, TheRunStartsWhenEveryLoopRuns) {
   EXPECT_TRUE(w.started());
 }
 
+// A service that joined but is never heard from: where every participant
+// listens follows the warning, so that two that share ports show it.
+TEST(Watcher, AServiceStillStartingIsShownWithWhereEachParticipantListens) {
+  Watcher w({"a", "b"}, 7, false);
+  w.joined("a", "01.0f.aa, discovery at SHM:[_]:7413, data at SHM:[_]:7415");
+  w.joined("b", "01.0f.bb, discovery at SHM:[_]:7413, data at SHM:[_]:7415");
+  w.joined("hcosim_up", "01.0f.cc, discovery at SHM:[_]:7411, data at SHM:[_]:7412");
+  w.status(status("a", "running", 0, 100, 0));
+  w.update(1, 1 * kS);
+  EXPECT_EQ(w.update(11, 2 * kS),
+            "hcosim up: still starting after 10 s: b\n"
+            "hcosim up:   participant a 01.0f.aa, discovery at SHM:[_]:7413, data at SHM:[_]:7415\n"
+            "hcosim up:   participant b 01.0f.bb, discovery at SHM:[_]:7413, data at SHM:[_]:7415\n"
+            "hcosim up:   participant hcosim_up 01.0f.cc, discovery at SHM:[_]:7411, data at SHM:[_]:7412\n");
+  EXPECT_EQ(w.update(12, 3 * kS), "");
+}
+
 TEST(Watcher, ARunGoesOnWithoutAServiceThatNeverStarts) {
   Watcher w({"a"}, 7, false);
   w.joined("a");
