@@ -54,7 +54,12 @@ rows=$(($(wc -l <"$WORK/omni.csv") - 1))
 published=$(grep -oE '"seq":[0-9]+' "$WORK/state.log" | sed 's/"seq"://' | sort -n | tail -1)
 [ "${published:-0}" -gt 1000 ] || fail "the device published only ${published:-0} states"
 [ "$rows" -ge $((published * 9 / 10)) ] || fail "recorded only $rows of about $published samples"
-# The replay device plays the recording: its deepest point is the recording's.
+# The replay device plays the recording: each state it publishes holds the
+# recording's position at its device time. The replay lasts 2 s of a
+# recording of more than 4, so a deeper point later in the recording (the
+# stylus sinks while a host stall holds the wall's answers back, as it did
+# once in CI) is outside it: the comparison is point by point, and the part
+# replayed must reach into the wall.
 deployment replay.yaml <<'YAML'
 mode: realtime
 duration: 2
@@ -67,9 +72,21 @@ YAML
 start replayed "$BIN/hcosim" echo HapticState --count 0 --timeout 4
 limit 30 "$BIN/hcosim" up "$WORK/replay.yaml" --out "$WORK/out2" >"$WORK/up2.log" 2>&1 || fail "replay up exited $?"
 wait "${PIDS[3]}"
-deepest() { sort -g | head -n 1; }
-rec=$(tail -n +2 "$WORK/omni.csv" | cut -d, -f4 | deepest)
-rep=$(grep -oE '"position":\{"x":[^}]*"z":-?[0-9.e+-]+' "$WORK/replayed.log" | sed -E 's/.*"z"://' | deepest)
-awk -v a="$rec" -v b="$rep" 'BEGIN { d = a - b; exit !(a < -0.002 && d < 1e-4 && d > -1e-4) }' ||
-  fail "replay's deepest z $rep is not the recording's $rec"
-echo "haptic_test: ok ($summary)"
+sed -nE 's/.*"device_time_s":([0-9.e+-]+),"position":\{"x":[^}]*"z":(-?[0-9.e+-]+).*/\1 \2/p' "$WORK/replayed.log" >"$WORK/replayed.tz"
+verdict=$(tail -n +2 "$WORK/omni.csv" | tr , ' ' | awk -v played="$WORK/replayed.tz" '
+  { t[n] = $1; z[n] = $4; n++ }
+  END {
+    while ((getline line < played) > 0) {
+      split(line, f, " ")
+      while (i + 1 < n && t[i + 1] <= f[1]) i++
+      w = (i + 1 < n && f[1] > t[i]) ? (f[1] - t[i]) / (t[i + 1] - t[i]) : 0
+      want = z[i] + w * (z[i + 1 < n ? i + 1 : i] - z[i])
+      d = f[2] - want; if (d < 0) d = -d
+      if (d > worst) { worst = d; at = f[1] }
+      if (f[2] < deepest) deepest = f[2]
+      m++
+    }
+    printf "%d states, worst %.3g m at %.3f s, deepest %.5f", m, worst, at, deepest
+    exit !(m > 1000 && worst < 1e-4 && deepest < -0.002)
+  }') || fail "the replay does not play the recording: $verdict"
+echo "haptic_test: ok ($summary; replay: $verdict)"
