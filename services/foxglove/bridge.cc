@@ -1,7 +1,5 @@
 #include "services/foxglove/bridge.h"
 
-#include <pthread.h>
-
 #include <cstdio>
 #include <type_traits>
 
@@ -16,11 +14,6 @@
 namespace hcosim::services::foxglove {
 
 namespace {
-
-// How often the drawing thread draws the scene channels' latest samples:
-// once a period rather than a wake-up for each of the stylus's 1 kHz
-// states. Under the fastest scene channel's period (60 Hz).
-constexpr std::chrono::milliseconds kDrawPeriod{10};
 
 // The time a sample's messages carry: its stamp's wall time, else now.
 template <class T>
@@ -40,10 +33,7 @@ Bridge::Bridge(runtime::Participant& p, Server& server, std::vector<adapters::sc
   // A 640x480 frame gains nothing from OpenCV's thread pool, whose
   // workers wake for each colour conversion and spin after it.
   cv::setNumThreads(1);
-  drawer_ = std::thread([this] {
-    pthread_setname_np(pthread_self(), "fox_draw");
-    draw_loop();
-  });
+  server_.every_flush([this] { draw(); });
   runtime::for_each_topic([&](auto tag) {
     using T = typename decltype(tag)::type;
     using Topic = runtime::TopicOf<T>;
@@ -62,12 +52,7 @@ Bridge::Bridge(runtime::Participant& p, Server& server, std::vector<adapters::sc
 
 Bridge::~Bridge() {
   for (auto& stop : stops_) stop();
-  {
-    std::lock_guard<std::mutex> l(m_);
-    stop_ = true;
-  }
-  wake_.notify_one();
-  drawer_.join();
+  server_.every_flush(nullptr);
 }
 
 std::uint32_t Bridge::scene_channel(const adapters::scene::ChannelOf& c) {
@@ -92,13 +77,12 @@ void Bridge::take(T& s, std::uint32_t raw) {
   if constexpr (std::is_same_v<T, MeshTopology>) {
     std::lock_guard<std::mutex> l(m_);
     topologies_.push_back([s](adapters::scene::Builder& b) { return b.on(s); });
-    wake_.notify_one();
   } else {
     const adapters::scene::ChannelOf c = builder_.channel(s);
     if (c.topic.empty()) return;
     const std::uint32_t id = scene_channel(c);
     if (!server_.subscribed(id)) return;
-    // No wake-up: the drawing thread comes every kDrawPeriod.
+    // No wake-up: the socket thread draws it when it next sends.
     // Moved, not copied: a camera frame is 900 KB, 25 times a second.
     auto taken = std::make_shared<const T>(std::move(s));
     std::lock_guard<std::mutex> l(m_);
@@ -108,30 +92,26 @@ void Bridge::take(T& s, std::uint32_t raw) {
   }
 }
 
-void Bridge::draw_loop() {
-  for (;;) {
-    std::vector<Draw> topologies;
-    std::map<std::uint32_t, std::pair<Draw, std::uint64_t>> pending;
-    {
-      std::unique_lock<std::mutex> l(m_);
-      wake_.wait_for(l, kDrawPeriod, [&] { return stop_ || !topologies_.empty(); });
-      if (stop_) return;
-      topologies.swap(topologies_);
-      pending.swap(pending_);
-    }
-    try {
-      for (const Draw& d : topologies) d(builder_);
-      for (auto& [id, work] : pending) {
-        for (adapters::scene::Message& m : work.first(builder_)) {
-          ++drawn_;
-          server_.publish(id, work.second, m.cdr);
-        }
+void Bridge::draw() {
+  std::vector<Draw> topologies;
+  std::map<std::uint32_t, std::pair<Draw, std::uint64_t>> pending;
+  {
+    std::lock_guard<std::mutex> l(m_);
+    topologies.swap(topologies_);
+    pending.swap(pending_);
+  }
+  try {
+    for (const Draw& d : topologies) d(builder_);
+    for (auto& [id, work] : pending) {
+      for (adapters::scene::Message& m : work.first(builder_)) {
+        ++drawn_;
+        server_.publish(id, work.second, m.cdr);
       }
-      unmatched_ = builder_.unmatched();
-    } catch (const std::exception& e) {
-      // A sample the scene cannot draw (validated, so a bug): said, and the rest goes on.
-      std::fprintf(stderr, "foxglove: cannot draw a scene message: %s\n", e.what());
     }
+    unmatched_ = builder_.unmatched();
+  } catch (const std::exception& e) {
+    // A sample the scene cannot draw (validated, so a bug): said, and the rest goes on.
+    std::fprintf(stderr, "foxglove: cannot draw a scene message: %s\n", e.what());
   }
 }
 

@@ -6,19 +6,20 @@
 // Nothing here slows a DDS writer: the readers are best effort (but the
 // latched topology), so no writer waits on their acknowledgements, even
 // in lockstep; on Fast DDS's receiving threads a sample is copied to the
-// server's outbox or handed to the drawing thread, which draws only each
-// scene channel's latest sample (a slower drawing skips samples, counted).
+// server's outbox or kept for drawing. The server's socket thread draws,
+// each time it wakes to send, only each scene channel's latest sample (a
+// slower drawing skips samples, counted): a thread of its own would add
+// its wake-ups, which cost more than the drawing on a virtual machine
+// (docs/PERFORMANCE.md, "The live Foxglove bridge").
 #pragma once
 
 #include <atomic>
-#include <condition_variable>
 #include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "adapters/scene/scene.h"
@@ -41,7 +42,7 @@ class Bridge {
   // Advertises the topics at once and each scene channel when its first
   // sample arrives. `server` outlives the bridge.
   Bridge(runtime::Participant& p, Server& server, std::vector<adapters::scene::Item> items, adapters::scene::Options o);
-  ~Bridge();  // stops the readers, then the drawing thread
+  ~Bridge();  // stops the readers, then the drawing
   Bridge(const Bridge&) = delete;
   Bridge& operator=(const Bridge&) = delete;
 
@@ -57,23 +58,20 @@ class Bridge {
   template <class T>
   void take(T& s, std::uint32_t raw);
   std::uint32_t scene_channel(const adapters::scene::ChannelOf& c);
-  void draw_loop();
+  void draw();  // on the server's socket thread
 
   Server& server_;
-  adapters::scene::Builder builder_;  // the drawing thread's, but channel()
+  adapters::scene::Builder builder_;  // draw()'s, but channel()
   runtime::Rejections rejections_;
 
   std::mutex channels_m_;
   std::map<std::string, std::uint32_t> scene_channels_;  // by topic
 
-  std::mutex m_;  // what waits for the drawing thread
-  std::condition_variable wake_;
+  std::mutex m_;                                                     // what waits for draw()
   std::vector<Draw> topologies_;                                     // every one, in order
   std::map<std::uint32_t, std::pair<Draw, std::uint64_t>> pending_;  // by channel: its latest sample, and its time
-  bool stop_ = false;
 
   std::atomic<std::uint64_t> samples_{0}, drawn_{0}, skipped_{0}, unmatched_{0}, newest_ns_{0}, told_ns_{0};
-  std::thread drawer_;
   std::vector<std::function<void()>> stops_;  // each reader's, owning it
 };
 

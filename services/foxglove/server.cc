@@ -94,6 +94,8 @@ struct Server::Impl {
   std::deque<Out> outbox;
   std::size_t outbox_bytes = 0;
   std::unique_ptr<asio::steady_timer> flush_timer;
+  std::mutex hook_m;           // hook
+  std::function<void()> hook;  // every_flush()
   std::uint32_t next_channel = 0;
   std::atomic<std::uint64_t> connections{0}, sent{0}, bytes{0}, held_back{0}, outbox_dropped{0}, slow_closed{0},
       refused{0}, n_clients{0};
@@ -111,6 +113,10 @@ struct Server::Impl {
   // The socket thread sends what waits every kFlushPeriod, so that a
   // burst of messages costs it one wake-up, not one each.
   void flush_every_period() {
+    {
+      std::lock_guard<std::mutex> l(hook_m);
+      if (hook) hook();
+    }
     flush();
     flush_timer->expires_after(kFlushPeriod);
     flush_timer->async_wait([this](const asio::error_code& ec) {
@@ -368,6 +374,11 @@ void Server::time(std::uint64_t time_ns) {
   out.kind = Impl::Out::kTime;
   out.time_ns = time_ns;
   impl_->enqueue(std::move(out));
+}
+
+void Server::every_flush(std::function<void()> f) {
+  std::lock_guard<std::mutex> l(impl_->hook_m);
+  impl_->hook = std::move(f);
 }
 
 ServerCounters Server::counters() const {

@@ -14,6 +14,7 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -81,6 +82,11 @@ class Server {
   static constexpr std::size_t kHeadroom = 13;  // op (1), subscription id (4), time (8)
   // The server's clock (the protocol's time message), in the messages' time base.
   void time(std::uint64_t time_ns);
+  // Has the socket thread call `f` every time it wakes to send what waits
+  // (every 10 ms), before sending: work whose messages go out then needs
+  // no thread, nor wake-ups, of its own. nullptr: no more calls; returns
+  // once none is running. Not from within `f`.
+  void every_flush(std::function<void()> f);
 
   ServerCounters counters() const;
 

@@ -4,6 +4,7 @@
 // one without the subprotocol, and a raw socket that subscribes and then
 // never reads, which is held back and closed while a reading client still
 // gets every message.
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstring>
@@ -155,6 +156,41 @@ TEST(FoxgloveServer, AdvertisesAndSendsOnlySubscribedChannelsAndTheTime) {
   ASSERT_TRUE(eventually([&] { return !server.subscribed(1); }));
   EXPECT_EQ(server.counters().sent, 1u);
   EXPECT_EQ(server.counters().refused, 0u);
+}
+
+// The bridge draws in every_flush()'s hook: it runs on the socket thread,
+// what it publishes goes out in the same wake-up, and after
+// every_flush(nullptr) it never runs again.
+TEST(FoxgloveServer, EveryFlushRunsItsHookOnTheSocketThreadUntilTakenAway) {
+  ServerOptions o;
+  o.port = 0;
+  Server server(o);
+  server.advertise(channel("A"));
+  Client c(server.port());
+  ASSERT_TRUE(c.wait([&] { return c.texts_.size() >= 2; }));
+  c.send({{"op", "subscribe"}, {"subscriptions", {{{"id", 3}, {"channelId", 0}}}}});
+  ASSERT_TRUE(eventually([&] { return server.subscribed(0); }));
+  std::atomic<int> calls{0};
+  std::atomic<bool> elsewhere{false};
+  const std::thread::id here = std::this_thread::get_id();
+  server.every_flush([&] {
+    if (std::this_thread::get_id() == here) elsewhere = true;
+    const int n = ++calls;
+    if (n <= 3) server.publish(0, std::uint64_t(n), {std::uint8_t(n)});
+  });
+  ASSERT_TRUE(c.wait([&] { return c.binaries_.size() >= 3; }));
+  server.every_flush(nullptr);
+  const int after = calls;
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));  // ten periods
+  EXPECT_EQ(calls, after);
+  EXPECT_GE(after, 3);
+  EXPECT_FALSE(elsewhere);
+  std::lock_guard<std::mutex> l(c.m_);
+  ASSERT_EQ(c.binaries_.size(), 3u);
+  for (int n = 1; n <= 3; ++n) {
+    EXPECT_EQ(le(c.binaries_[n - 1], 5, 8), std::uint64_t(n));
+    EXPECT_EQ(c.binaries_[n - 1].substr(13), std::string(1, char(n)));
+  }
 }
 
 TEST(FoxgloveServer, BadRequestsAreAnsweredWithAnErrorStatusThatNamesThem) {
