@@ -44,6 +44,8 @@ Bridge::Bridge(runtime::Participant& p, Server& server, std::vector<adapters::sc
     const std::string profile = std::is_same_v<T, MeshTopology> ? Topic::qos : "control";
     auto reader = std::make_shared<runtime::Reader<T>>(
         p, [](const T& s) { return adapters::validate(s); }, &rejections_, profile, runtime::kMonitorDepth);
+    // The sample is the reader's own, read into afresh by its next take:
+    // take() may move from it.
     auto take_all = [this, r = reader.get(), raw] { r->take([&](T& s) { take(s, raw); }); };
     reader->on_arrival(take_all);
     stops_.push_back([reader] { reader->on_arrival(nullptr); });

@@ -249,8 +249,7 @@ class Reader {
   Reader& operator=(const Reader&) = delete;
 
   // Takes every unread sample; calls f(sample) for each admissible one, in
-  // arrival order. f may take the sample as T& and move from it: the next
-  // one is read into it afresh. Returns how many were admitted.
+  // arrival order. Returns how many were admitted.
   template <class F>
   std::size_t take(F&& f) {
     std::size_t admitted = 0;
