@@ -54,7 +54,7 @@ class Bridge {
   // One sample to draw, with the time of the messages it gives.
   using Draw = std::function<std::vector<adapters::scene::Message>(adapters::scene::Builder&)>;
 
-  // Takes `s` over: its bytes go to the drawing thread without a copy.
+  // Takes `s` over: its bytes go to draw() without a copy.
   template <class T>
   void take(T& s, std::uint32_t raw);
   std::uint32_t scene_channel(const adapters::scene::ChannelOf& c);
