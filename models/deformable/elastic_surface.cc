@@ -10,7 +10,7 @@ namespace hcosim::models::deformable {
 
 namespace {
 
-void need(bool ok, const std::string& what) {
+void need_surface(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("elastic surface: " + what);
 }
 
@@ -71,13 +71,14 @@ void dome(int rings, double radius, Eigen::Matrix3Xd& x, std::vector<Eigen::Vect
 const char* name(Shape s) { return s == Shape::sheet ? "sheet" : "semisphere"; }
 
 ElasticSurface::ElasticSurface(const SurfaceSpec& spec) : spec_(spec), cone_(spec.friction) {
-  need(spec.resolution >= 3 && spec.resolution <= 400, "resolution must be in [3, 400]");
-  need(spec.size > 0 && std::isfinite(spec.size), "size must be finite and > 0");
-  need(spec.centre.allFinite(), "centre must be finite");
-  need(spec.prestretch >= 0 && spec.prestretch < 0.5, "prestretch must be in [0, 0.5)");
-  need(spec.tip_radius >= 0 && spec.tip_radius < 0.5 * spec.size, "tip_radius must be in [0, size / 2)");
-  need(spec.bending >= 0 && std::isfinite(spec.bending), "bending must be finite and >= 0");
-  need(spec.contact_stiffness > 0 && std::isfinite(spec.contact_stiffness), "contact_stiffness must be finite and > 0");
+  need_surface(spec.resolution >= 3 && spec.resolution <= 400, "resolution must be in [3, 400]");
+  need_surface(spec.size > 0 && std::isfinite(spec.size), "size must be finite and > 0");
+  need_surface(spec.centre.allFinite(), "centre must be finite");
+  need_surface(spec.prestretch >= 0 && spec.prestretch < 0.5, "prestretch must be in [0, 0.5)");
+  need_surface(spec.tip_radius >= 0 && spec.tip_radius < 0.5 * spec.size, "tip_radius must be in [0, size / 2)");
+  need_surface(spec.bending >= 0 && std::isfinite(spec.bending), "bending must be finite and >= 0");
+  need_surface(spec.contact_stiffness > 0 && std::isfinite(spec.contact_stiffness),
+               "contact_stiffness must be finite and > 0");
   const int n = spec.resolution;
   models::massspring::Lattice l;
   if (spec.shape == Shape::sheet) {
@@ -137,9 +138,9 @@ Eigen::Vector3d ElasticSurface::proxy() const {
 }
 
 Touch ElasticSurface::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
-  need(std::isfinite(dt) && std::abs(dt - spec_.options.dt) <= 1e-9 * spec_.options.dt,
-       "touch dt must equal the behavior step options.dt");
-  need(hip.allFinite(), "the haptic point must be finite");
+  need_surface(std::isfinite(dt) && std::abs(dt - spec_.options.dt) <= 1e-9 * spec_.options.dt,
+               "touch dt must equal the behavior step options.dt");
+  need_surface(hip.allFinite(), "the haptic point must be finite");
   loads_.clear();
   bool entering = false;  // until the HIP, on its way through the tick, is in
   const Eigen::Matrix3Xd& now = resting_ ? rest_ : touched_now();

@@ -15,7 +15,7 @@ namespace hcosim::models::deformable {
 
 namespace {
 
-void need(bool ok, const std::string& what) {
+void need_hybrid(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("hybrid: " + what);
 }
 
@@ -27,18 +27,18 @@ bool stiff_side(const HybridSpec& s, const Eigen::Vector3d& rest) {
 // The shape scaled and moved into place, welded.
 models::massspring::TriangleMesh placed(const HybridSpec& s) {
   models::massspring::TriangleMesh m = s.shape;
-  need(m.vertices.cols() >= 4 && m.vertices.allFinite(), "a shape needs at least 4 finite vertices");
+  need_hybrid(m.vertices.cols() >= 4 && m.vertices.allFinite(), "a shape needs at least 4 finite vertices");
   for (const Eigen::Vector3i& t : m.triangles)
-    need(t.minCoeff() >= 0 && t.maxCoeff() < m.vertices.cols(), "a shape's triangle indexes no vertex");
+    need_hybrid(t.minCoeff() >= 0 && t.maxCoeff() < m.vertices.cols(), "a shape's triangle indexes no vertex");
   const Eigen::Vector3d lo = m.vertices.rowwise().minCoeff(), hi = m.vertices.rowwise().maxCoeff();
   const double longest = (hi - lo).maxCoeff();
-  need(longest > 0, "a shape needs an extent");
+  need_hybrid(longest > 0, "a shape needs an extent");
   m.vertices = ((m.vertices.colwise() - 0.5 * (lo + hi)) * (s.size / longest)).colwise() + s.centre;
   models::massspring::weld(m, 1e-9 * s.size);
   try {
     models::massspring::check_closed(m);
   } catch (const std::invalid_argument& e) {
-    need(false, std::string("shape: ") + e.what());
+    need_hybrid(false, std::string("shape: ") + e.what());
   }
   return m;
 }
@@ -82,19 +82,19 @@ BehaviorModel parse_behavior_model(const std::string& s) {
 }
 
 void check(const HybridSpec& s) {
-  need(s.elements >= 3 && s.elements <= 100, "elements must be in [3, 100] per edge");
-  need(s.size > 0 && std::isfinite(s.size), "size must be finite and > 0");
-  need(s.centre.allFinite(), "centre must be finite");
-  need(s.stiff_ratio >= 1 && s.stiff_ratio <= 100, "stiff_ratio must be in [1, 100]");
-  need(s.volume >= 0 && s.volume <= 1000, "volume must be in [0, 1000]");
-  need(s.volume_floor > 0 && s.volume_floor <= 1, "volume_floor must be in (0, 1]");
-  need(s.modes >= 1 && s.modes <= models::fem::Modal::kMaxDofs,
-       "modes must be in [1, " + std::to_string(models::fem::Modal::kMaxDofs) + "]");
-  need(s.visual_subdivisions >= 1 && s.visual_subdivisions <= 1000, "visual_subdivisions must be in [1, 1000]");
-  need(s.keep > 0 && s.keep <= 1, "keep must be in (0, 1]");
-  need(s.visual_tolerance >= 0 && s.visual_tolerance < s.size, "visual_tolerance must be in [0, size)");
-  need(s.tip_radius >= 0 && s.tip_radius < 0.5 * s.size, "tip_radius must be in [0, size / 2)");
-  need(s.shape.triangles.empty() || s.map != VisualMap::trilinear, "a shape is mapped by mvc or mvc_sparse");
+  need_hybrid(s.elements >= 3 && s.elements <= 100, "elements must be in [3, 100] per edge");
+  need_hybrid(s.size > 0 && std::isfinite(s.size), "size must be finite and > 0");
+  need_hybrid(s.centre.allFinite(), "centre must be finite");
+  need_hybrid(s.stiff_ratio >= 1 && s.stiff_ratio <= 100, "stiff_ratio must be in [1, 100]");
+  need_hybrid(s.volume >= 0 && s.volume <= 1000, "volume must be in [0, 1000]");
+  need_hybrid(s.volume_floor > 0 && s.volume_floor <= 1, "volume_floor must be in (0, 1]");
+  need_hybrid(s.modes >= 1 && s.modes <= models::fem::Modal::kMaxDofs,
+              "modes must be in [1, " + std::to_string(models::fem::Modal::kMaxDofs) + "]");
+  need_hybrid(s.visual_subdivisions >= 1 && s.visual_subdivisions <= 1000, "visual_subdivisions must be in [1, 1000]");
+  need_hybrid(s.keep > 0 && s.keep <= 1, "keep must be in (0, 1]");
+  need_hybrid(s.visual_tolerance >= 0 && s.visual_tolerance < s.size, "visual_tolerance must be in [0, size)");
+  need_hybrid(s.tip_radius >= 0 && s.tip_radius < 0.5 * s.size, "tip_radius must be in [0, size / 2)");
+  need_hybrid(s.shape.triangles.empty() || s.map != VisualMap::trilinear, "a shape is mapped by mvc or mvc_sparse");
 }
 
 Eigen::AlignedBox3d rest_box(const HybridSpec& s) {
@@ -146,8 +146,8 @@ void anchor_bottom(const models::massspring::Voxels& v, std::vector<std::uint8_t
                    const Eigen::Matrix3Xd& rest) {
   int count = 0;
   for (int i = 0; i < rest.cols(); ++i) count += anchored[i] = rest(2, i) < v.origin.z() + 0.5 * v.spacing;
-  need(count >= 3, "the body's lowest layer of nodes holds " + std::to_string(count) +
-                       " (3 or more needed): a shape must rest on a flat underside");
+  need_hybrid(count >= 3, "the body's lowest layer of nodes holds " + std::to_string(count) +
+                              " (3 or more needed): a shape must rest on a flat underside");
 }
 
 }  // namespace
@@ -203,7 +203,7 @@ class Held {
       fem_ = std::make_unique<models::fem::Corotational>(hybrid_mesh(spec), spec.fem, o);
       state_ = models::fem::rest_state(fem_->mesh());
       if (spec.behavior_model == BehaviorModel::modal) {
-        need(mass >= 0 && mass < state_.x.cols(), "no mass " + std::to_string(mass));
+        need_hybrid(mass >= 0 && mass < state_.x.cols(), "no mass " + std::to_string(mass));
         stiffness_ = models::fem::Modal(*fem_, models::fem::ModalOptions{spec.behavior.dt, spec.modes})
                          .compliance(mass)
                          .inverse();
@@ -216,7 +216,7 @@ class Held {
       springs_ = std::make_unique<models::massspring::Simulator>(hybrid_masses(spec), o);
       state_ = models::massspring::rest_state(springs_->lattice());
     }
-    need(mass >= 0 && mass < state_.x.cols(), "no mass " + std::to_string(mass));
+    need_hybrid(mass >= 0 && mass < state_.x.cols(), "no mass " + std::to_string(mass));
     fem_ ? fem_->hold(mass, true) : springs_->hold(mass, true);
   }
   const Eigen::Matrix3Xd& rest() const { return fem_ ? fem_->mesh().rest : springs_->lattice().rest; }
@@ -248,7 +248,7 @@ class Held {
 }  // namespace
 
 Eigen::Vector3d behavior_static_force(const HybridSpec& spec, int mass, const Eigen::Vector3d& displacement) {
-  need(displacement.allFinite(), "the displacement must be finite");
+  need_hybrid(displacement.allFinite(), "the displacement must be finite");
   Held held(spec, mass, 1e-8);
   return held.settle(held.rest().col(mass) + displacement, 1e-9);
 }
@@ -374,8 +374,8 @@ Hybrid::Hybrid(const HybridSpec& spec, const MapSource& map, const GainSource& g
     : spec_(spec), chains_(hybrid_chains(spec), spec.relax_rate, spec.limit_stiffness), cone_(spec.friction) {
   gain_ = gain ? gain(spec) : remembered_gain(spec);
   const std::size_t k = gain_.depth.size();
-  need(k >= 2 && gain_.soft.size() == k && (gain_.stiff.empty() || gain_.stiff.size() == k),
-       "the force gain needs two or more depths and a gain at each");
+  need_hybrid(k >= 2 && gain_.soft.size() == k && (gain_.stiff.empty() || gain_.stiff.size() == k),
+              "the force gain needs two or more depths and a gain at each");
   masses_ = std::make_unique<models::massspring::Simulator>(hybrid_masses(spec), spec.behavior);
   state_ = models::massspring::rest_state(masses_->lattice());
   if (spec.behavior_model != BehaviorModel::springs) {
@@ -416,8 +416,8 @@ Hybrid::Hybrid(const HybridSpec& spec, const MapSource& map, const GainSource& g
       }
     }
     weights_ = map ? map(cage, g.triangles, visual_.vertices) : mvc_map(spec, cage, g.triangles, visual_.vertices);
-    need(weights_.rows() == visual_.vertices.cols() && weights_.cols() == cage.cols(),
-         "the visual map must have a row per visual vertex and a column per cage vertex");
+    need_hybrid(weights_.rows() == visual_.vertices.cols() && weights_.cols() == cage.cols(),
+                "the visual map must have a row per visual vertex and a column per cage vertex");
   }
   columns_ = weights_.cast<float>();
   mesh_ = std::make_unique<MeshProxy>(visual_.triangles, int(visual_.vertices.cols()));
@@ -436,8 +436,8 @@ Hybrid::Hybrid(const HybridSpec& spec, const MapSource& map, const GainSource& g
 Eigen::Vector3d Hybrid::proxy() const { return contact_.face < 0 ? last_hip_ : mesh_->point(surface_, contact_); }
 
 Touch Hybrid::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
-  need(dt > 0 && std::isfinite(dt), "dt must be finite and > 0");
-  need(hip.allFinite(), "the haptic point must be finite");
+  need_hybrid(dt > 0 && std::isfinite(dt), "dt must be finite and > 0");
+  need_hybrid(hip.allFinite(), "the haptic point must be finite");
   const Eigen::Matrix3Xd& rest = surface_;
   if (contact_.face < 0 && reach().contains(hip)) {
     if (has_last_) {

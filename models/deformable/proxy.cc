@@ -9,7 +9,7 @@ namespace hcosim::models::deformable {
 
 namespace {
 
-void need(bool ok, const std::string& what) {
+void need_proxy(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("mesh proxy: " + what);
 }
 
@@ -49,14 +49,14 @@ Eigen::Vector3d nearest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vecto
 }
 
 MeshProxy::MeshProxy(std::vector<Eigen::Vector3i> triangles, int vertices) : triangles_(std::move(triangles)) {
-  need(!triangles_.empty(), "the mesh has no triangles");
+  need_proxy(!triangles_.empty(), "the mesh has no triangles");
   std::vector<std::vector<int>>& at = incident_;
   at.resize(vertices);
   for (int f = 0; f < faces(); ++f)
     for (int c = 0; c < 3; ++c) {
       const int v = triangles_[f][c];
-      need(v >= 0 && v < vertices,
-           "triangle " + std::to_string(f) + " names vertex " + std::to_string(v) + " of " + std::to_string(vertices));
+      need_proxy(v >= 0 && v < vertices, "triangle " + std::to_string(f) + " names vertex " + std::to_string(v) +
+                                             " of " + std::to_string(vertices));
       at[v].push_back(f);
     }
   ring_.resize(faces());
@@ -179,9 +179,9 @@ SurfacePoint MeshProxy::nearest(const Eigen::Matrix3Xd& x, SurfacePoint at, cons
 
 FaceGrid::FaceGrid(const Eigen::Matrix3Xd& x, const std::vector<Eigen::Vector3i>& triangles, double cell, double margin)
     : cell_(cell) {
-  need(cell > 0 && std::isfinite(cell) && margin >= 0 && std::isfinite(margin),
-       "a face grid needs a finite cell > 0 and margin >= 0");
-  need(x.cols() > 0 && x.allFinite(), "a face grid needs finite positions");
+  need_proxy(cell > 0 && std::isfinite(cell) && margin >= 0 && std::isfinite(margin),
+             "a face grid needs a finite cell > 0 and margin >= 0");
+  need_proxy(x.cols() > 0 && x.allFinite(), "a face grid needs finite positions");
   origin_ = x.rowwise().minCoeff().array() - margin;
   const Eigen::Vector3d extent = x.rowwise().maxCoeff().array() + margin - origin_.array();
   for (int c = 0; c < 3; ++c) dims_[c] = std::clamp(int(std::ceil(extent[c] / cell)), 1, 256);

@@ -9,14 +9,14 @@ namespace hcosim::models::deformable {
 
 namespace {
 
-void need(bool ok, const std::string& what) {
+void need_chain(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("schain: " + what);
 }
 
 void check(const ChainMaterial& m) {
-  need(m.stiffness > 0 && std::isfinite(m.stiffness), "stiffness must be finite and > 0");
+  need_chain(m.stiffness > 0 && std::isfinite(m.stiffness), "stiffness must be finite and > 0");
   for (double r : {m.stretch, m.compress, m.shear})
-    need(r > 0 && r < 1, "stretch, compress and shear must be in (0, 1)");
+    need_chain(r > 0 && r < 1, "stretch, compress and shear must be in (0, 1)");
 }
 
 }  // namespace
@@ -27,8 +27,8 @@ Eigen::Vector3d ChainLattice::rest(int e) const {
 }
 
 ChainLattice make_chain_box(int nx, int ny, int nz, double spacing, const ChainMaterial& m) {
-  need(nx >= 2 && ny >= 2 && nz >= 2, "a chain box needs at least 2 x 2 x 2 elements");
-  need(spacing > 0 && std::isfinite(spacing), "spacing must be finite and > 0");
+  need_chain(nx >= 2 && ny >= 2 && nz >= 2, "a chain box needs at least 2 x 2 x 2 elements");
+  need_chain(spacing > 0 && std::isfinite(spacing), "spacing must be finite and > 0");
   check(m);
   ChainLattice l;
   l.nx = nx, l.ny = ny, l.nz = nz, l.spacing = spacing;
@@ -40,11 +40,11 @@ ChainLattice make_chain_box(int nx, int ny, int nz, double spacing, const ChainM
 
 SChain::SChain(ChainLattice lattice, double relax_rate, double limit_stiffness)
     : lat_(std::move(lattice)), relax_rate_(relax_rate), limit_stiffness_(limit_stiffness) {
-  need(lat_.nx >= 2 && lat_.ny >= 2 && lat_.nz >= 2, "a chain lattice needs at least 2 x 2 x 2 elements");
-  need(lat_.spacing > 0 && std::isfinite(lat_.spacing), "spacing must be finite and > 0");
-  need(int(lat_.material.size()) == lat_.size() && int(lat_.anchored.size()) == lat_.size() &&
-           int(lat_.present.size()) == lat_.size(),
-       "material, anchored and present need one entry per element");
+  need_chain(lat_.nx >= 2 && lat_.ny >= 2 && lat_.nz >= 2, "a chain lattice needs at least 2 x 2 x 2 elements");
+  need_chain(lat_.spacing > 0 && std::isfinite(lat_.spacing), "spacing must be finite and > 0");
+  need_chain(int(lat_.material.size()) == lat_.size() && int(lat_.anchored.size()) == lat_.size() &&
+                 int(lat_.present.size()) == lat_.size(),
+             "material, anchored and present need one entry per element");
   for (const ChainMaterial& m : lat_.material) check(m);
   on_surface_.assign(lat_.size(), 0);
   for (int k = 0; k < lat_.nz; ++k)
@@ -57,9 +57,9 @@ SChain::SChain(ChainLattice lattice, double relax_rate, double limit_stiffness)
             !lat_.present[e + lat_.nx] || !lat_.present[e - lat_.nx * lat_.ny] || !lat_.present[e + lat_.nx * lat_.ny])
           on_surface_[e] = 1, surface_.push_back(e);
       }
-  need(!surface_.empty(), "a chain lattice needs at least one element present");
-  need(relax_rate > 0 && std::isfinite(relax_rate), "relax_rate must be finite and > 0");
-  need(limit_stiffness >= 0 && std::isfinite(limit_stiffness), "limit_stiffness must be finite and >= 0");
+  need_chain(!surface_.empty(), "a chain lattice needs at least one element present");
+  need_chain(relax_rate > 0 && std::isfinite(relax_rate), "relax_rate must be finite and > 0");
+  need_chain(limit_stiffness >= 0 && std::isfinite(limit_stiffness), "limit_stiffness must be finite and >= 0");
   u_.assign(lat_.size(), Eigen::Vector3d::Zero());
   in_moved_.assign(lat_.size(), 0);
   visit_.assign(lat_.size(), 0);
@@ -143,10 +143,10 @@ void SChain::undo() {
 }
 
 int SChain::tick(double dt, int contact, const Eigen::Vector3d& target) {
-  need(dt > 0 && std::isfinite(dt), "dt must be finite and > 0");
-  need(contact >= -1 && contact < lat_.size() && (contact < 0 || lat_.present[contact]),
-       "contact element " + std::to_string(contact) + " is not in the lattice");
-  need(contact < 0 || target.allFinite(), "the contact target must be finite");
+  need_chain(dt > 0 && std::isfinite(dt), "dt must be finite and > 0");
+  need_chain(contact >= -1 && contact < lat_.size() && (contact < 0 || lat_.present[contact]),
+             "contact element " + std::to_string(contact) + " is not in the lattice");
+  need_chain(contact < 0 || target.allFinite(), "the contact target must be finite");
   // Elastic relaxation: every link's allowed box contains zero difference,
   // so scaling all displacements down never violates a link.
   const double keep = std::exp(-relax_rate_ * dt), eps = 1e-9 * lat_.spacing;

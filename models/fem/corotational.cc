@@ -20,7 +20,7 @@ namespace {
 using Mat12 = Eigen::Matrix<double, 12, 12>;
 using Vec12 = Eigen::Matrix<double, 12, 1>;
 
-void need(bool ok, const std::string& what) {
+void need_fem(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("fem: " + what);
 }
 
@@ -39,8 +39,8 @@ Eigen::Matrix3d rotation(const Eigen::Matrix3d& F) {
 }  // namespace
 
 Mesh box_mesh(int nx, int ny, int nz, double spacing) {
-  need(nx >= 2 && ny >= 2 && nz >= 2, "a box needs at least 2 nodes along each axis");
-  need(spacing > 0 && std::isfinite(spacing), "the spacing must be finite and > 0");
+  need_fem(nx >= 2 && ny >= 2 && nz >= 2, "a box needs at least 2 nodes along each axis");
+  need_fem(spacing > 0 && std::isfinite(spacing), "the spacing must be finite and > 0");
   Mesh m;
   m.rest.resize(3, nx * ny * nz);
   for (int k = 0; k < nz; ++k)
@@ -82,20 +82,20 @@ struct Corotational::Impl {
 
   Impl(Mesh m, const Material& material, const Options& options) : mesh(std::move(m)), mat(material), opt(options) {
     const int n = mesh.size();
-    need(mat.young > 0 && std::isfinite(mat.young), "Young's modulus must be finite and > 0");
-    need(mat.poisson > -1 && mat.poisson < 0.5, "Poisson's ratio must be in (-1, 0.5)");
-    need(mat.density > 0 && std::isfinite(mat.density), "the density must be finite and > 0");
-    need(mat.alpha >= 0 && mat.beta >= 0 && std::isfinite(mat.alpha + mat.beta),
-         "Rayleigh damping must be finite and >= 0");
-    need(opt.dt > 0 && std::isfinite(opt.dt), "dt must be finite and > 0");
-    need(opt.tolerance > 0 && opt.tolerance < 1, "the tolerance must be in (0, 1)");
-    need(mesh.rest.allFinite(), "rest positions must be finite");
-    need(int(mesh.anchored.size()) == n,
-         "anchored has " + std::to_string(mesh.anchored.size()) + " flags for " + std::to_string(n) + " nodes");
-    need(!mesh.tets.empty(), "the mesh has no tetrahedra");
-    need(mesh.scale.empty() || mesh.scale.size() == mesh.tets.size(),
-         "scale has " + std::to_string(mesh.scale.size()) + " entries for " + std::to_string(mesh.tets.size()) +
-             " tetrahedra");
+    need_fem(mat.young > 0 && std::isfinite(mat.young), "Young's modulus must be finite and > 0");
+    need_fem(mat.poisson > -1 && mat.poisson < 0.5, "Poisson's ratio must be in (-1, 0.5)");
+    need_fem(mat.density > 0 && std::isfinite(mat.density), "the density must be finite and > 0");
+    need_fem(mat.alpha >= 0 && mat.beta >= 0 && std::isfinite(mat.alpha + mat.beta),
+             "Rayleigh damping must be finite and >= 0");
+    need_fem(opt.dt > 0 && std::isfinite(opt.dt), "dt must be finite and > 0");
+    need_fem(opt.tolerance > 0 && opt.tolerance < 1, "the tolerance must be in (0, 1)");
+    need_fem(mesh.rest.allFinite(), "rest positions must be finite");
+    need_fem(int(mesh.anchored.size()) == n,
+             "anchored has " + std::to_string(mesh.anchored.size()) + " flags for " + std::to_string(n) + " nodes");
+    need_fem(!mesh.tets.empty(), "the mesh has no tetrahedra");
+    need_fem(mesh.scale.empty() || mesh.scale.size() == mesh.tets.size(),
+             "scale has " + std::to_string(mesh.scale.size()) + " entries for " + std::to_string(mesh.tets.size()) +
+                 " tetrahedra");
     const double lambda = mat.young * mat.poisson / ((1 + mat.poisson) * (1 - 2 * mat.poisson));
     const double mu = mat.young / (2 * (1 + mat.poisson));
     mass.setZero(n);
@@ -105,16 +105,16 @@ struct Corotational::Impl {
       e.c = mesh.tets[t];
       const std::string name = "tetrahedron " + std::to_string(t);
       for (int p = 0; p < 4; ++p) {
-        need(e.c[p] >= 0 && e.c[p] < n, name + " has a corner outside 0.." + std::to_string(n - 1));
-        for (int q = 0; q < p; ++q) need(e.c[p] != e.c[q], name + " repeats corner " + std::to_string(e.c[p]));
+        need_fem(e.c[p] >= 0 && e.c[p] < n, name + " has a corner outside 0.." + std::to_string(n - 1));
+        for (int q = 0; q < p; ++q) need_fem(e.c[p] != e.c[q], name + " repeats corner " + std::to_string(e.c[p]));
       }
       Eigen::Matrix3d dm;
       for (int a = 0; a < 3; ++a) dm.col(a) = mesh.rest.col(e.c[a + 1]) - mesh.rest.col(e.c[0]);
       if (dm.determinant() < 0) std::swap(e.c[2], e.c[3]), dm.col(1).swap(dm.col(2));
       const double volume = dm.determinant() / 6;
-      need(volume > 1e-18 * std::pow(dm.colwise().norm().maxCoeff(), 3), name + " has no volume at rest");
+      need_fem(volume > 1e-18 * std::pow(dm.colwise().norm().maxCoeff(), 3), name + " has no volume at rest");
       const double scale = mesh.scale.empty() ? 1.0 : mesh.scale[t];
-      need(scale > 0 && std::isfinite(scale), name + " has a scale that is not finite and > 0");
+      need_fem(scale > 0 && std::isfinite(scale), name + " has a scale that is not finite and > 0");
       e.bm = dm.inverse();
       // Shape function gradients: rows of Dm^-1 for corners 1..3, corner 0 minus their sum.
       Eigen::Matrix<double, 3, 4> g;
@@ -130,7 +130,7 @@ struct Corotational::Impl {
       elements.push_back(e);
     }
     for (int i = 0; i < n; ++i)
-      need(mass[i] > 0 || mesh.anchored[i], "node " + std::to_string(i) + " is in no tetrahedron and not anchored");
+      need_fem(mass[i] > 0 || mesh.anchored[i], "node " + std::to_string(i) + " is in no tetrahedron and not anchored");
     held.assign(n, 0);
     build_pattern();
   }
@@ -281,12 +281,13 @@ Corotational::Corotational(Mesh mesh, const Material& material, const Options& o
 Corotational::~Corotational() = default;
 
 void check_step(int n, const models::massspring::State& s, const std::vector<models::massspring::PointForce>& loads) {
-  need(s.x.cols() == n && s.v.cols() == n,
-       "the state has " + std::to_string(s.x.cols()) + " nodes, the mesh " + std::to_string(n));
-  need(s.x.allFinite() && s.v.allFinite(), "the state must be finite");
+  need_fem(s.x.cols() == n && s.v.cols() == n,
+           "the state has " + std::to_string(s.x.cols()) + " nodes, the mesh " + std::to_string(n));
+  need_fem(s.x.allFinite() && s.v.allFinite(), "the state must be finite");
   for (const models::massspring::PointForce& p : loads) {
-    need(p.mass >= 0 && p.mass < n, "a load on node " + std::to_string(p.mass) + ", the mesh has " + std::to_string(n));
-    need(p.force.allFinite(), "a non-finite load on node " + std::to_string(p.mass));
+    need_fem(p.mass >= 0 && p.mass < n,
+             "a load on node " + std::to_string(p.mass) + ", the mesh has " + std::to_string(n));
+    need_fem(p.force.allFinite(), "a non-finite load on node " + std::to_string(p.mass));
   }
 }
 
@@ -296,14 +297,15 @@ StepInfo Corotational::step(models::massspring::State& s, const std::vector<mode
 }
 
 void Corotational::hold(int node, bool held) {
-  need(node >= 0 && node < impl_->mesh.size(), "cannot hold node " + std::to_string(node));
-  need(!impl_->mesh.anchored[node], "node " + std::to_string(node) + " is anchored, not free to hold");
+  need_fem(node >= 0 && node < impl_->mesh.size(), "cannot hold node " + std::to_string(node));
+  need_fem(!impl_->mesh.anchored[node], "node " + std::to_string(node) + " is anchored, not free to hold");
   impl_->held[node] = held;
 }
 
 Eigen::Vector3d Corotational::force_on(int node, const models::massspring::State& s) const {
   const Impl& m = *impl_;
-  need(node >= 0 && node < m.mesh.size() && s.x.cols() == m.mesh.size(), "force_on: no node " + std::to_string(node));
+  need_fem(node >= 0 && node < m.mesh.size() && s.x.cols() == m.mesh.size(),
+           "force_on: no node " + std::to_string(node));
   Eigen::Vector3d f = Eigen::Vector3d::Zero();
   for (const int k : m.incident[node]) {
     const Impl::Element& e = m.elements[k];
@@ -316,7 +318,7 @@ Eigen::Vector3d Corotational::force_on(int node, const models::massspring::State
 
 double Corotational::energy(const Eigen::Matrix3Xd& x) const {
   const Impl& m = *impl_;
-  need(x.cols() == m.mesh.size(), "energy: positions of the wrong size");
+  need_fem(x.cols() == m.mesh.size(), "energy: positions of the wrong size");
   double sum = 0;
   for (const Impl::Element& e : m.elements) {
     const Vec12 u = m.local_displacement(e, m.element_rotation(e, x), x);

@@ -11,24 +11,24 @@ namespace hcosim::models::fem {
 
 namespace {
 
-void need(bool ok, const std::string& what) {
+void need_modal(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("fem modal: " + what);
 }
 
 }  // namespace
 
 Modal::Modal(const Corotational& fem, const ModalOptions& options) : options_(options), rest_(fem.mesh().rest) {
-  need(options.dt > 0 && std::isfinite(options.dt), "dt must be finite and > 0");
+  need_modal(options.dt > 0 && std::isfinite(options.dt), "dt must be finite and > 0");
   const int n = fem.mesh().size();
   dof_.assign(n, -1);
   for (int i = 0; i < n; ++i)
     if (!fem.mesh().anchored[i]) dof_[i] = 3 * int(free_.size()), free_.push_back(i);
   const int dofs = 3 * int(free_.size());
-  need(dofs > 0, "the mesh has no free node");
-  need(dofs <= kMaxDofs,
-       std::to_string(dofs) + " free dofs, more than the dense eigensolve's " + std::to_string(kMaxDofs));
-  need(options.modes >= 1 && options.modes <= dofs,
-       "modes must be in 1.." + std::to_string(dofs) + ", not " + std::to_string(options.modes));
+  need_modal(dofs > 0, "the mesh has no free node");
+  need_modal(dofs <= kMaxDofs,
+             std::to_string(dofs) + " free dofs, more than the dense eigensolve's " + std::to_string(kMaxDofs));
+  need_modal(options.modes >= 1 && options.modes <= dofs,
+             "modes must be in 1.." + std::to_string(dofs) + ", not " + std::to_string(options.modes));
 
   // K phi = w^2 M phi with M lumped (diagonal): the symmetric problem
   // M^-1/2 K M^-1/2 u = w^2 u, phi = M^-1/2 u.
@@ -43,7 +43,7 @@ Modal::Modal(const Corotational& fem, const ModalOptions& options) : options_(op
     }
   s = root.cwiseInverse().asDiagonal() * s * root.cwiseInverse().asDiagonal();
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(s);
-  need(eig.info() == Eigen::Success, "the eigensolve failed");
+  need_modal(eig.info() == Eigen::Success, "the eigensolve failed");
   const int m = options.modes;
   const Eigen::MatrixXd u = eig.eigenvectors().leftCols(m);
   phi_ = root.cwiseInverse().asDiagonal() * u;
@@ -92,14 +92,14 @@ void Modal::step(models::massspring::State& s, const std::vector<models::massspr
 }
 
 Eigen::Matrix3d Modal::compliance(int node) const {
-  need(node >= 0 && node < int(dof_.size()) && dof_[node] >= 0, "no free node " + std::to_string(node));
-  need(rigid_ == 0, std::to_string(rigid_) + " kept modes have no stiffness: a free body has no static answer");
+  need_modal(node >= 0 && node < int(dof_.size()) && dof_[node] >= 0, "no free node " + std::to_string(node));
+  need_modal(rigid_ == 0, std::to_string(rigid_) + " kept modes have no stiffness: a free body has no static answer");
   const auto rows = phi_.middleRows<3>(dof_[node]);
   return rows * omega_.cwiseAbs2().cwiseInverse().asDiagonal() * rows.transpose();
 }
 
 Eigen::Matrix3Xd Modal::shape(int mode) const {
-  need(mode >= 0 && mode < modes(), "no mode " + std::to_string(mode));
+  need_modal(mode >= 0 && mode < modes(), "no mode " + std::to_string(mode));
   Eigen::Matrix3Xd out = Eigen::Matrix3Xd::Zero(3, rest_.cols());
   for (std::size_t k = 0; k < free_.size(); ++k) out.col(free_[k]) = phi_.col(mode).segment<3>(3 * k);
   return out;

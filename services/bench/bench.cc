@@ -5,6 +5,7 @@
 // ms_per_sim_s, rel_error, ...).
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -161,6 +162,11 @@ int run(const BenchOptions& o) {
 }
 
 }  // namespace
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? NAN : v.size() % 2 ? v[v.size() / 2] : (v[v.size() / 2 - 1] + v[v.size() / 2]) / 2;
+}
 
 void add_bench(CLI::App& app, runtime::Command& chosen) {
   auto o = std::make_shared<BenchOptions>();

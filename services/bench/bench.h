@@ -79,6 +79,9 @@ struct Suite {
 
 inline void progress(const std::string& line) { std::cerr << "bench: " << line << std::endl; }
 
+// The median of v: the mean of its middle two for an even count, NaN for none.
+double median(std::vector<double> v);
+
 // `hcosim bench SUITE|all|list|report ...`: runs suites and writes their
 // report (bench.cc).
 void add_bench(CLI::App& app, runtime::Command& chosen);

@@ -101,11 +101,6 @@ Run run(const Context& c, const fs::path& dir, bool bridge, double seconds) {
   return r;
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? NAN : v.size() % 2 ? v[v.size() / 2] : (v[v.size() / 2 - 1] + v[v.size() / 2]) / 2;
-}
-
 std::vector<Row> foxglove_rows(const Context& c) {
   const int pairs = c.quick ? 1 : 3;
   const double seconds = c.quick ? 20 : 30;

@@ -120,7 +120,7 @@ std::vector<Body> row_of(int n) {
   std::vector<Body> out;
   for (int i = 0; i < n; ++i) {
     Body b;
-    b.shape = i % 2 ? Shape::cube : Shape::sphere;
+    b.shape = i % 2 ? models::rigid::Shape::cube : models::rigid::Shape::sphere;
     b.size = 0.01, b.mass = 0.05;
     b.x = Eigen::Vector3d(0.05 * i, 0.3 * (i % 3), 0.01);
     out.push_back(b);
@@ -129,11 +129,6 @@ std::vector<Body> row_of(int n) {
 }
 
 Tip sweep(int k) { return {Eigen::Vector3d(-0.05 + 1e-4 * k, 0, 0.012), Eigen::Vector3d(0.1, 0, 0)}; }
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
 
 std::vector<Row> step_rows(bool quick) {
   std::vector<Row> rows;

@@ -9,10 +9,12 @@
 #include <zlib.h>
 #include <zstd.h>
 
+#include "services/runtime/bytes.h"
+
 namespace hcosim::services::runtime {
 namespace {
 
-constexpr char kMagic[8] = {'\x89', 'M', 'C', 'A', 'P', '0', '\r', '\n'};
+constexpr char kMcapMagic[8] = {'\x89', 'M', 'C', 'A', 'P', '0', '\r', '\n'};
 // Record opcodes of the MCAP specification.
 enum Op : std::uint8_t {
   kHeader = 0x01,
@@ -36,22 +38,15 @@ std::uint32_t crc(std::uint32_t c, const void* p, std::size_t n) {
 }
 
 // Little-endian integers, strings and maps as the specification lays them out.
-template <class U>
-void put(std::string& out, U v) {
-  char b[sizeof(U)];
-  std::memcpy(b, &v, sizeof(U));  // little-endian on every machine hcosim builds for
-  out.append(b, sizeof(U));
-}
-
 void put_string(std::string& out, const std::string& s) {
-  put(out, std::uint32_t(s.size()));
+  append_le(out, std::uint32_t(s.size()));
   out += s;
 }
 
 std::string record(Op op, const std::string& body) {
   std::string r;
-  put(r, std::uint8_t(op));
-  put(r, std::uint64_t(body.size()));
+  append_le(r, std::uint8_t(op));
+  append_le(r, std::uint64_t(body.size()));
   return r + body;
 }
 
@@ -149,7 +144,7 @@ std::string decompress(const std::string& how, const std::string& packed, std::u
 
 std::string schema_body(const McapSchema& s) {
   std::string b;
-  put(b, s.id);
+  append_le(b, s.id);
   put_string(b, s.name);
   put_string(b, s.encoding);
   put_string(b, s.data);
@@ -158,8 +153,8 @@ std::string schema_body(const McapSchema& s) {
 
 std::string channel_body(const McapChannel& c) {
   std::string b, m;
-  put(b, c.id);
-  put(b, c.schema_id);
+  append_le(b, c.id);
+  append_le(b, c.schema_id);
   put_string(b, c.topic);
   put_string(b, c.message_encoding);
   for (const auto& [k, v] : c.metadata) put_string(m, k), put_string(m, v);
@@ -187,7 +182,7 @@ McapWriter::McapWriter(const std::string& path, McapCompression compression, std
       compression_(compression),
       chunk_bytes_(chunk_bytes) {
   if (!out_) throw std::runtime_error(path + ": cannot be written");
-  emit(std::string(kMagic, sizeof kMagic));
+  emit(std::string(kMcapMagic, sizeof kMcapMagic));
   std::string header;
   put_string(header, "");  // profile: none of the well-known ones
   put_string(header, "hcosim");
@@ -229,10 +224,10 @@ void McapWriter::write(const McapMessage& m) {
   if (m.channel == 0 || m.channel > channels_.size())
     throw std::invalid_argument("mcap: a message on no channel " + std::to_string(m.channel));
   std::string b;
-  put(b, m.channel);
-  put(b, m.sequence);
-  put(b, m.log_time);
-  put(b, m.publish_time);
+  append_le(b, m.channel);
+  append_le(b, m.sequence);
+  append_le(b, m.log_time);
+  append_le(b, m.publish_time);
   b.append(reinterpret_cast<const char*>(m.data.data()), m.data.size());
   if (chunk_index_.empty()) chunk_start_ = chunk_end_ = m.log_time;
   chunk_start_ = std::min(chunk_start_, m.log_time), chunk_end_ = std::max(chunk_end_, m.log_time);
@@ -248,12 +243,12 @@ void McapWriter::flush_chunk() {
   if (chunk_.empty()) return;
   const std::string packed = compress(compression_, chunk_);
   std::string c;
-  put(c, chunk_start_);
-  put(c, chunk_end_);
-  put(c, std::uint64_t(chunk_.size()));
-  put(c, crc(0, chunk_.data(), chunk_.size()));
+  append_le(c, chunk_start_);
+  append_le(c, chunk_end_);
+  append_le(c, std::uint64_t(chunk_.size()));
+  append_le(c, crc(0, chunk_.data(), chunk_.size()));
   put_string(c, name(compression_));
-  put(c, std::uint64_t(packed.size()));
+  append_le(c, std::uint64_t(packed.size()));
   c += packed;
   const std::uint64_t chunk_at = offset_;
   emit(record(kChunk, c));
@@ -263,23 +258,23 @@ void McapWriter::flush_chunk() {
   for (auto& [channel, entries] : chunk_index_) {
     std::stable_sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     std::string b;
-    put(b, channel);
-    put(b, std::uint32_t(entries.size() * 16));
-    for (const auto& [t, at] : entries) put(b, t), put(b, at);
-    put(offsets, channel);
-    put(offsets, offset_);
+    append_le(b, channel);
+    append_le(b, std::uint32_t(entries.size() * 16));
+    for (const auto& [t, at] : entries) append_le(b, t), append_le(b, at);
+    append_le(offsets, channel);
+    append_le(offsets, offset_);
     emit(record(kMessageIndex, b));
   }
   std::string index;
-  put(index, chunk_start_);
-  put(index, chunk_end_);
-  put(index, chunk_at);
-  put(index, chunk_length);
+  append_le(index, chunk_start_);
+  append_le(index, chunk_end_);
+  append_le(index, chunk_at);
+  append_le(index, chunk_length);
   put_string(index, offsets);
-  put(index, offset_ - chunk_at - chunk_length);
+  append_le(index, offset_ - chunk_at - chunk_length);
   put_string(index, name(compression_));
-  put(index, std::uint64_t(packed.size()));
-  put(index, std::uint64_t(chunk_.size()));
+  append_le(index, std::uint64_t(packed.size()));
+  append_le(index, std::uint64_t(chunk_.size()));
   chunk_indexes_.push_back(record(kChunkIndex, index));
   chunk_.clear();
   chunk_index_.clear();
@@ -291,7 +286,7 @@ void McapWriter::close() {
   closed_ = true;
   flush_chunk();
   std::string end;
-  put(end, data_crc_);
+  append_le(end, data_crc_);
   emit(record(kDataEnd, end));
 
   // The summary: every schema and channel, the statistics and the chunk
@@ -304,24 +299,24 @@ void McapWriter::close() {
     const std::uint64_t at = offset_;
     for (const std::string& r : records) emit(r);
     std::string o;
-    put(o, std::uint8_t(op));
-    put(o, at);
-    put(o, offset_ - at);
+    append_le(o, std::uint8_t(op));
+    append_le(o, at);
+    append_le(o, offset_ - at);
     offsets.push_back(record(kSummaryOffset, o));
   };
   std::vector<std::string> schemas, channels;
   for (const McapSchema& s : schemas_) schemas.push_back(record(kSchema, schema_body(s)));
   for (const McapChannel& c : channels_) channels.push_back(record(kChannel, channel_body(c)));
   std::string stats, counts;
-  put(stats, messages_);
-  put(stats, std::uint16_t(schemas_.size()));
-  put(stats, std::uint32_t(channels_.size()));
-  put(stats, std::uint32_t(0));  // attachments
-  put(stats, std::uint32_t(0));  // metadata
-  put(stats, std::uint32_t(chunk_indexes_.size()));
-  put(stats, first_);
-  put(stats, last_);
-  for (const auto& [channel, n] : counts_) put(counts, channel), put(counts, n);
+  append_le(stats, messages_);
+  append_le(stats, std::uint16_t(schemas_.size()));
+  append_le(stats, std::uint32_t(channels_.size()));
+  append_le(stats, std::uint32_t(0));  // attachments
+  append_le(stats, std::uint32_t(0));  // metadata
+  append_le(stats, std::uint32_t(chunk_indexes_.size()));
+  append_le(stats, first_);
+  append_le(stats, last_);
+  for (const auto& [channel, n] : counts_) append_le(counts, channel), append_le(counts, n);
   put_string(stats, counts);
   group(kSchema, schemas);
   group(kChannel, channels);
@@ -330,31 +325,32 @@ void McapWriter::close() {
   const std::uint64_t offsets_at = offset_;
   for (const std::string& o : offsets) emit(o);
   std::string footer;
-  put(footer, std::uint8_t(kFooter));
-  put(footer, std::uint64_t(20));
-  put(footer, summary_at);
-  put(footer, offsets_at);
-  put(footer, crc(data_crc_, footer.data(), footer.size()));
+  append_le(footer, std::uint8_t(kFooter));
+  append_le(footer, std::uint64_t(20));
+  append_le(footer, summary_at);
+  append_le(footer, offsets_at);
+  append_le(footer, crc(data_crc_, footer.data(), footer.size()));
   emit(footer);
-  emit(std::string(kMagic, sizeof kMagic));
+  emit(std::string(kMcapMagic, sizeof kMcapMagic));
   out_.close();
   if (!out_) throw std::runtime_error(path_ + ": writing the recording failed");
 }
 
 bool is_mcap(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  char magic[sizeof kMagic] = {};
+  char magic[sizeof kMcapMagic] = {};
   in.read(magic, sizeof magic);
-  return in && std::memcmp(magic, kMagic, sizeof kMagic) == 0;
+  return in && std::memcmp(magic, kMcapMagic, sizeof kMcapMagic) == 0;
 }
 
 McapReader::McapReader(const std::string& path) : path_(path), in_(path, std::ios::binary | std::ios::ate) {
   if (!in_) throw std::runtime_error(path + ": cannot be read");
   size_ = std::uint64_t(in_.tellg());
   in_.seekg(0);
-  char magic[sizeof kMagic] = {};
+  char magic[sizeof kMcapMagic] = {};
   in_.read(magic, sizeof magic);
-  if (!in_ || std::memcmp(magic, kMagic, sizeof kMagic) != 0) throw std::runtime_error(path + ": not an MCAP file");
+  if (!in_ || std::memcmp(magic, kMcapMagic, sizeof kMcapMagic) != 0)
+    throw std::runtime_error(path + ": not an MCAP file");
   crc_ = crc(0, magic, sizeof magic);
   offset_ = sizeof magic;
   std::uint8_t op = 0;

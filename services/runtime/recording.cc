@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "idl/schemas.h"
+#include "services/runtime/bytes.h"
 #include "services/runtime/service.h"
 
 namespace hcosim::services::runtime {
@@ -22,21 +23,6 @@ std::size_t bytes_of(const Record& r) { return sizeof r + r.topic.size() + r.cdr
 constexpr char kMagic[8] = {'H', 'C', 'O', 'S', 'R', 'E', 'C', '1'};
 // Large enough for a 1280x720 bgr8 frame; a larger length means a corrupt file.
 constexpr std::uint32_t kMaxRecord = 64u << 20;
-
-template <class U>
-void put(std::string& out, U v) {
-  char b[sizeof(U)];
-  std::memcpy(b, &v, sizeof(U));  // little-endian on every machine hcosim builds for
-  out.append(b, sizeof(U));
-}
-
-template <class U>
-U get(const char*& p) {
-  U v;
-  std::memcpy(&v, p, sizeof(U));
-  p += sizeof(U);
-  return v;
-}
 
 bool ends_with(const std::string& s, const std::string& end) {
   return s.size() >= end.size() && s.compare(s.size() - end.size(), end.size(), end) == 0;
@@ -100,14 +86,14 @@ void RecordingWriter::write(const Record& r) {
   // u32 length of the rest, u16 topic length, topic, u64 step, i64 sim time,
   // i64 receive time, the CDR bytes.
   std::string b;
-  put(b, std::uint16_t(r.topic.size()));
+  append_le(b, std::uint16_t(r.topic.size()));
   b += r.topic;
-  put(b, r.step);
-  put(b, r.sim_time_ns);
-  put(b, r.receive_ns);
+  append_le(b, r.step);
+  append_le(b, r.sim_time_ns);
+  append_le(b, r.receive_ns);
   b.append(reinterpret_cast<const char*>(r.cdr.data()), r.cdr.size());
   std::string head;
-  put(head, std::uint32_t(b.size()));
+  append_le(head, std::uint32_t(b.size()));
   out_.write(head.data(), std::streamsize(head.size()));
   out_.write(b.data(), std::streamsize(b.size()));
   ++count_;
@@ -203,19 +189,19 @@ bool RecordingReader::next(Record& r) {
   const std::string where = path_ + ": record at byte " + std::to_string(offset_);
   if (in_.gcount() != 4) throw std::runtime_error(where + " is cut short (an interrupted recording?)");
   const char* h = head;
-  const std::uint32_t n = get<std::uint32_t>(h);
+  const std::uint32_t n = read_le<std::uint32_t>(h);
   if (n < 2 + 24 || n > kMaxRecord) throw std::runtime_error(where + " has an impossible length " + std::to_string(n));
   std::string b(n, '\0');
   in_.read(b.data(), n);
   if (std::uint32_t(in_.gcount()) != n) throw std::runtime_error(where + " is cut short (an interrupted recording?)");
   const char* p = b.data();
-  const std::uint16_t t = get<std::uint16_t>(p);
+  const std::uint16_t t = read_le<std::uint16_t>(p);
   if (2u + t + 24u > n) throw std::runtime_error(where + " has an impossible topic length");
   r.topic.assign(p, t);
   p += t;
-  r.step = get<std::uint64_t>(p);
-  r.sim_time_ns = get<std::int64_t>(p);
-  r.receive_ns = get<std::int64_t>(p);
+  r.step = read_le<std::uint64_t>(p);
+  r.sim_time_ns = read_le<std::int64_t>(p);
+  r.receive_ns = read_le<std::int64_t>(p);
   r.cdr.assign(reinterpret_cast<const std::uint8_t*>(p), reinterpret_cast<const std::uint8_t*>(b.data() + n));
   offset_ += 4 + n;
   return true;

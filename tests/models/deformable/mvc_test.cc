@@ -42,7 +42,7 @@ TEST(MeanValueCoordinates, NearFacePointsKeepLinearPrecision) {
   std::vector<Eigen::Vector3d> pts;
   for (double d = 1e-12; d <= 1e-3; d *= 10)
     for (const double side : {-1.0, 1.0})
-      for (const Eigen::Vector2d xy :
+      for (const Eigen::Vector2d& xy :
            {Eigen::Vector2d(0.37, 0.61), Eigen::Vector2d(0.5, 0.5), Eigen::Vector2d(0.03, 0.2)})
         pts.emplace_back(xy.x(), xy.y(), side * d);
   Eigen::Matrix3Xd p(3, pts.size());

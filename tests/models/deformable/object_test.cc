@@ -13,13 +13,13 @@
 namespace hcosim::models::deformable {
 namespace {
 
-constexpr double kDt = 1e-3;  // s, the haptic step
+constexpr double kStep = 1e-3;  // s, the haptic step
 
 // Each kind of deformable object, small enough for a unit test.
 std::unique_ptr<Object> make(const std::string& kind) {
   SurfaceSpec surface;
   surface.resolution = 9;
-  surface.options.dt = kDt;
+  surface.options.dt = kStep;
   if (kind == "sheet") return std::make_unique<ElasticSurface>(surface);
   if (kind == "semisphere") {
     surface.shape = Shape::semisphere;
@@ -56,7 +56,7 @@ TEST_P(DeformableReach, NoContactBeginsOutsideIt) {
             if (d < best) best = d, axis = a, side = sgn;
           }
         p[axis] = side ? r.max()[axis] + 5e-4 : r.min()[axis] - 5e-4;
-        EXPECT_FALSE(o->touch(kDt, p, false).in_contact) << "contact at " << p.transpose() << " outside the reach";
+        EXPECT_FALSE(o->touch(kStep, p, false).in_contact) << "contact at " << p.transpose() << " outside the reach";
       }
 }
 
@@ -69,7 +69,7 @@ TEST_P(DeformableReach, AContactBeginsAtItsTopInsideTheReach) {
   const double top = o->surface().row(2).maxCoeff();
   Eigen::Vector3d p(r.center().x() + 1e-4, r.center().y() + 1e-4, r.max().z() + 1e-3);
   Touch t;
-  for (; p.z() > top - 5e-4 && !t.in_contact; p.z() -= 1e-5) t = o->touch(kDt, p, false);
+  for (; p.z() > top - 5e-4 && !t.in_contact; p.z() -= 1e-5) t = o->touch(kStep, p, false);
   EXPECT_TRUE(t.in_contact) << "no contact down to " << p.transpose();
   EXPECT_TRUE(r.contains(p)) << "contact at " << p.transpose() << " outside the reach";
 }

@@ -8,10 +8,10 @@
 namespace hcosim::models::deformable {
 namespace {
 
-constexpr double kDt = 1e-3;
+constexpr double kTick = 1e-3;
 
 // 10 x 10 x 10 chains 1 cm apart (seed scale), floor anchored.
-ChainLattice cube(int n = 10, ChainMaterial m = {}) {
+ChainLattice chain_cube(int n = 10, ChainMaterial m = {}) {
   ChainLattice l = make_chain_box(n, n, n, 0.01, m);
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) l.anchored[l.index(i, j, 0)] = 1;
@@ -23,7 +23,7 @@ int top_centre(const ChainLattice& l) { return l.index(l.nx / 2, l.ny / 2, l.nz 
 // Presses `e` down by `depth` for `ticks` ticks; returns the force.
 Eigen::Vector3d press(SChain& s, int e, double depth, int ticks = 200) {
   const Eigen::Vector3d target = s.lattice().rest(e) - Eigen::Vector3d(0, 0, depth);
-  for (int k = 0; k < ticks; ++k) s.tick(kDt, e, target);
+  for (int k = 0; k < ticks; ++k) s.tick(kTick, e, target);
   return s.force();
 }
 
@@ -54,11 +54,11 @@ void expect_links_hold(const SChain& s) {
 }
 
 TEST(SChain, ReleaseReturnsExactlyToRest) {
-  SChain s(cube());
+  SChain s(chain_cube());
   const int e = top_centre(s.lattice());
   EXPECT_GT(press(s, e, 0.005).z(), 0);  // pushes the stylus back out
   EXPECT_GT(s.moved().size(), 1u);
-  for (int k = 0; k < 2000; ++k) s.tick(kDt, -1, {});
+  for (int k = 0; k < 2000; ++k) s.tick(kTick, -1, {});
   EXPECT_TRUE(s.moved().empty());
   EXPECT_EQ(s.force(), Eigen::Vector3d::Zero());
   for (int i = 0; i < s.lattice().size(); ++i) EXPECT_EQ(s.displacement(i), Eigen::Vector3d::Zero());
@@ -68,7 +68,7 @@ TEST(SChain, ReleaseReturnsExactlyToRest) {
 // anchored floor (9 links of 0.5 mm): the chains stop and the limit
 // stiffness takes over, so the force still grows.
 TEST(SChain, ForceGrowsMonotonicallyWithDepth) {
-  SChain s(cube());
+  SChain s(chain_cube());
   const int e = top_centre(s.lattice());
   double last = 0;
   for (int step = 1; step <= 16; ++step) {
@@ -84,7 +84,7 @@ TEST(SChain, ForceGrowsMonotonicallyWithDepth) {
 
 // 001 Fig 8: left half four times stiffer, with a range half as wide.
 TEST(SChain, StifferSidePushesBackHarderAndDeformsLess) {
-  ChainLattice l = cube();
+  ChainLattice l = chain_cube();
   for (int e = 0; e < l.size(); ++e)
     if (e % l.nx < l.nx / 2) l.material[e] = {8, 0.025, 0.025, 0.025};
   const int stiff = l.index(2, 5, 9), soft = l.index(7, 5, 9);
@@ -102,12 +102,12 @@ TEST(SChain, StifferSidePushesBackHarderAndDeformsLess) {
 // The same press moves the same chains in a 10^3 and a 40^3 lattice: the
 // cost follows the moved chains, not the lattice.
 TEST(SChain, MovedChainsDoNotDependOnLatticeSize) {
-  SChain small(cube(10)), large(cube(40));
+  SChain small(chain_cube(10)), large(chain_cube(40));
   const int es = small.lattice().index(5, 5, 9), el = large.lattice().index(20, 20, 39);
   int ms = 0, ml = 0;
   for (int k = 0; k < 50; ++k) {
-    ms = small.tick(kDt, es, small.lattice().rest(es) - Eigen::Vector3d(0, 0, 0.002));
-    ml = large.tick(kDt, el, large.lattice().rest(el) - Eigen::Vector3d(0, 0, 0.002));
+    ms = small.tick(kTick, es, small.lattice().rest(es) - Eigen::Vector3d(0, 0, 0.002));
+    ml = large.tick(kTick, el, large.lattice().rest(el) - Eigen::Vector3d(0, 0, 0.002));
   }
   EXPECT_GT(ms, 1);
   EXPECT_EQ(ms, ml);
@@ -137,14 +137,14 @@ TEST(SChain, ChainsThatAreNotThereAreNeitherMovedNorTouched) {
   // Inside the gap, just by the +x arm's inner face at j = 4.
   const int near = s.nearest_surface(l.rest(l.index(7, 5, 2)) + Eigen::Vector3d(0, 0.002, 0));
   EXPECT_EQ(near, l.index(7, 4, 2));
-  EXPECT_THROW(s.tick(kDt, l.index(7, 7, 3), l.rest(l.index(7, 7, 3))), std::invalid_argument);
+  EXPECT_THROW(s.tick(kTick, l.index(7, 7, 3), l.rest(l.index(7, 7, 3))), std::invalid_argument);
 }
 
 TEST(SChain, FarNanAndLongHeldContactsAreHandled) {
-  SChain s(cube());
+  SChain s(chain_cube());
   const int e = top_centre(s.lattice());
-  EXPECT_THROW(s.tick(kDt, s.lattice().size(), {0, 0, 0}), std::invalid_argument);
-  EXPECT_THROW(s.tick(kDt, e, {NAN, 0, 0}), std::invalid_argument);
+  EXPECT_THROW(s.tick(kTick, s.lattice().size(), {0, 0, 0}), std::invalid_argument);
+  EXPECT_THROW(s.tick(kTick, e, {NAN, 0, 0}), std::invalid_argument);
   EXPECT_THROW(s.tick(0, -1, {}), std::invalid_argument);
   EXPECT_EQ(s.nearest_surface({NAN, 0, 0}), -1);
   EXPECT_EQ(s.nearest_surface({1, 1, 1}), -1);  // a metre away

@@ -15,7 +15,7 @@
 namespace hcosim::models::massspring {
 namespace {
 
-using C = std::complex<double>;
+using Complex = std::complex<double>;
 
 // One mass on a spring of rest length 1 m to an anchor, moving along x;
 // damped by the spring's damper b or by air friction `drag` (N s/m).
@@ -35,10 +35,10 @@ Lattice oscillator(double m, double k, double b, double drag = 0) {
 // spring damper or (`drag`) from air friction, which symplectic_euler and
 // velocity_verlet integrate exactly; returns the eigenvalue with positive
 // imaginary part (or the larger real one).
-C theory(Integrator in, double w, double c, double h, bool drag = false) {
-  const C lambda = (-c + std::sqrt(C(c * c - 4 * w * w))) / 2.0;
+Complex theory(Integrator in, double w, double c, double h, bool drag = false) {
+  const Complex lambda = (-c + std::sqrt(Complex(c * c - 4 * w * w))) / 2.0;
   if (in == Integrator::rk4) {
-    const C z = lambda * h;
+    const Complex z = lambda * h;
     return 1.0 + z + z * z / 2.0 + z * z * z / 6.0 + z * z * z * z / 24.0;
   }
   if (in == Integrator::implicit_euler || in == Integrator::local_global) return 1.0 / (1.0 - h * lambda);
@@ -66,7 +66,7 @@ C theory(Integrator in, double w, double c, double h, bool drag = false) {
 // Simulates the oscillator from a 0.1 m stretch and recovers the one-step
 // eigenvalue from the positions: x[n+2] = 2 Re(z) x[n+1] - |z|^2 x[n],
 // fitted by least squares over the whole run.
-C measured(Integrator in, double w, double c, double h, int steps, bool drag = false) {
+Complex measured(Integrator in, double w, double c, double h, int steps, bool drag = false) {
   Options o;
   o.integrator = in;
   o.dt = h;
@@ -89,14 +89,14 @@ C measured(Integrator in, double w, double c, double h, int steps, bool drag = f
   }
   const Eigen::Vector2d pq = a.colPivHouseholderQr().solve(y);
   const double re = pq[0] / 2, mod2 = -pq[1];
-  return re * re <= mod2 ? C(re, std::sqrt(mod2 - re * re)) : C(re + std::sqrt(re * re - mod2), 0);
+  return re * re <= mod2 ? Complex(re, std::sqrt(mod2 - re * re)) : Complex(re + std::sqrt(re * re - mod2), 0);
 }
 
 // Discrete angular frequency (rad/s) and decay rate (1/s) of eigenvalue z.
-double frequency(C z, double h) { return std::arg(z) / h; }
-double decay(C z, double h) { return -std::log(std::abs(z)) / h; }
+double frequency(Complex z, double h) { return std::arg(z) / h; }
+double decay(Complex z, double h) { return -std::log(std::abs(z)) / h; }
 
-struct Case {
+struct Mode {
   double w, zeta, h;
 };
 
@@ -105,10 +105,10 @@ class MassspringAccuracyPerIntegrator : public ::testing::TestWithParam<Integrat
 TEST_P(MassspringAccuracyPerIntegrator, OscillatorMatchesItsTheory) {
   const Integrator in = GetParam();
   for (const bool drag : {false, true})
-    for (const Case cs : {Case{10, 0.0, 0.01}, Case{10, 0.05, 0.01}, Case{10, 0.3, 0.02}, Case{40, 0.1, 0.02}}) {
+    for (const Mode cs : {Mode{10, 0.0, 0.01}, Mode{10, 0.05, 0.01}, Mode{10, 0.3, 0.02}, Mode{40, 0.1, 0.02}}) {
       SCOPED_TRACE("w " + std::to_string(cs.w) + " zeta " + std::to_string(cs.zeta) + (drag ? " drag" : " damper"));
       const double c = 2 * cs.zeta * cs.w;
-      const C zt = theory(in, cs.w, c, cs.h, drag), zm = measured(in, cs.w, c, cs.h, 300, drag);
+      const Complex zt = theory(in, cs.w, c, cs.h, drag), zm = measured(in, cs.w, c, cs.h, 300, drag);
       EXPECT_NEAR(frequency(zm, cs.h), frequency(zt, cs.h), 1e-6 * cs.w);
       EXPECT_NEAR(decay(zm, cs.h), decay(zt, cs.h), 1e-6 * cs.w);
     }

@@ -19,7 +19,7 @@ WorldSpec free_space(double e, double mu, double tip_radius) {
   return s;
 }
 
-Body body(Shape shape, double size = 0.02, double mass = 0.1) {
+Body body_of(Shape shape, double size = 0.02, double mass = 0.1) {
   Body b;
   b.shape = shape, b.size = size, b.mass = mass;
   return b;
@@ -30,7 +30,7 @@ TEST(Rigid, Eq2IsExactOverEveryImpactParameter) {
   const double r = 0.02;
   for (int k = 0; k <= 40; ++k) {
     const double b = 2 * r * k / 40, s = b / (2 * r), c = std::sqrt(1 - s * s);
-    World w(free_space(1, 0, r), {body(Shape::sphere, r)});
+    World w(free_space(1, 0, r), {body_of(Shape::sphere, r)});
     w.set_tip({Eigen::Vector3d(-0.1, b, 0), Eigen::Vector3d(1, 0, 0)});
     for (int n = 0; n < 200; ++n) w.step(1e-3);
     SCOPED_TRACE("b/2r = " + std::to_string(s));
@@ -48,7 +48,7 @@ TEST_P(RigidPerShape, CollisionsConserveMomentumAndAngularMomentum) {
   const Shape shape = GetParam();
   for (const double mu : {0.0, 0.5})
     for (const double y : {0.0, 0.007, 0.015}) {
-      World w(free_space(0.6, mu, 0), {body(shape)});
+      World w(free_space(0.6, mu, 0), {body_of(shape)});
       w.set_tip({Eigen::Vector3d(-0.05, y, 0.004), Eigen::Vector3d(2, 0.1, -0.2)});
       const Eigen::Vector3d p0 = w.momentum(), l0 = w.angular_momentum();
       int hits = 0;
@@ -65,7 +65,7 @@ TEST_P(RigidPerShape, CollisionsConserveMomentumAndAngularMomentum) {
 // 1/2 vn^2 / (n.K.n), and none for e = 1.
 TEST(Rigid, EnergyIsLostAsRestitutionSays) {
   for (const double e : {1.0, 0.7, 0.3, 0.0}) {
-    const Body b = body(Shape::cube);
+    const Body b = body_of(Shape::cube);
     const Eigen::Vector3d p(-0.02, 0.008, 0.005), n(-1, 0, 0), tip_v(1.5, 0.2, 0);
     const Eigen::Vector3d P = contact_impulse(b, 0.1, tip_v, p, n, Material{e, 0});
     const Eigen::Vector3d r = p - b.x;
@@ -85,7 +85,7 @@ TEST(Rigid, EnergyIsLostAsRestitutionSays) {
 // j d / I about r x F (eq 7's torque direction).
 TEST(Rigid, OffCentreHitSpinsTheCubeAsTheClosedFormSays) {
   const double d = 0.012, v1 = 1.2;
-  World w(free_space(1, 0, 0), {body(Shape::cube)});
+  World w(free_space(1, 0, 0), {body_of(Shape::cube)});
   w.set_tip({Eigen::Vector3d(-0.05, d, 0), Eigen::Vector3d(v1, 0, 0)});
   for (int n = 0; n < 60; ++n) w.step(1e-3);
   const Body& c = w.bodies()[0];
@@ -99,11 +99,11 @@ TEST(Rigid, OffCentreHitSpinsTheCubeAsTheClosedFormSays) {
 
 // A tip at rest against a body, and a grazing tip, change nothing.
 TEST(Rigid, ZeroVelocityAndGrazingTouchesExchangeNothing) {
-  World still(free_space(1, 0.5, 0.002), {body(Shape::sphere)});
+  World still(free_space(1, 0.5, 0.002), {body_of(Shape::sphere)});
   still.set_tip({Eigen::Vector3d(-0.022, 0, 0), Eigen::Vector3d::Zero()});
   for (int n = 0; n < 10; ++n) EXPECT_EQ(still.step(1e-3).hits, 0);
   EXPECT_TRUE(still.bodies()[0].v.isZero());
-  World graze(free_space(1, 0, 0.002), {body(Shape::sphere)});
+  World graze(free_space(1, 0, 0.002), {body_of(Shape::sphere)});
   graze.set_tip({Eigen::Vector3d(-0.05, 0.022, 0), Eigen::Vector3d(1, 0, 0)});
   for (int n = 0; n < 100; ++n) graze.step(1e-3);
   EXPECT_TRUE(graze.bodies()[0].v.isZero());
@@ -114,7 +114,7 @@ TEST(Rigid, ZeroVelocityAndGrazingTouchesExchangeNothing) {
 // between two of its positions and is still hit (and so is a cube).
 TEST_P(RigidPerShape, FastStylusDoesNotTunnel) {
   const Shape shape = GetParam();
-  World w(free_space(1, 0, 0.0005), {body(shape, 0.003, 0.01)});
+  World w(free_space(1, 0, 0.0005), {body_of(shape, 0.003, 0.01)});
   w.set_tip({Eigen::Vector3d(-0.0045, 0.0002, 0), Eigen::Vector3d(10, 0, 0)});
   int hits = 0;
   for (int n = 0; n < 3; ++n) hits += w.step(1e-3).hits;
@@ -128,7 +128,7 @@ INSTANTIATE_TEST_SUITE_P(, RigidPerShape, ::testing::Values(Shape::cube, Shape::
 // A spinning sphere hit with friction: the tip is thrown sideways, the
 // spin changes about r x F, and momentum is conserved.
 TEST(Rigid, SpinningSphereThrowsTheTipSideways) {
-  Body ball = body(Shape::sphere);
+  Body ball = body_of(Shape::sphere);
   ball.w = Eigen::Vector3d(0, 0, 40);  // its -x side moves toward -y
   World w(free_space(0.5, 0.4, 0), {ball});
   w.set_tip({Eigen::Vector3d(-0.05, 0, 0), Eigen::Vector3d(1, 0, 0)});
@@ -146,7 +146,7 @@ TEST(Rigid, SpinningSphereThrowsTheTipSideways) {
 // integration instead, which must agree to its resolution: sliding
 // throughout (mu P_n), and the slip stopping (stick) part-way.
 TEST(Rigid, FrictionClosedFormAgreesWithTheIntegratedImpulse) {
-  Body ball = body(Shape::sphere);
+  Body ball = body_of(Shape::sphere);
   ball.w = Eigen::Vector3d(0, 0, 30);
   const Eigen::Vector3d n(-1, 0, 0), p = ball.x + ball.size * n, off(0, 1e-6, 0);
   for (double mu : {0.05, 0.3, 2.0}) {
@@ -175,7 +175,7 @@ TEST(Rigid, FrictionClosedFormAgreesWithTheIntegratedImpulse) {
 // dropped on it comes to rest flat on a face; asleep, it costs nothing
 // until the tip hits it.
 TEST(Rigid, CubesRestOnTheMarkerPlaneAndSleep) {
-  Body cube = body(Shape::cube);
+  Body cube = body_of(Shape::cube);
   cube.x = Eigen::Vector3d(0, 0, 0.02);
   World rest(WorldSpec{}, {cube});
   rest.set_tip({Eigen::Vector3d(1, 1, 1), Eigen::Vector3d::Zero()});
@@ -205,7 +205,7 @@ TEST(Rigid, CubesRestOnTheMarkerPlaneAndSleep) {
 TEST(Rigid, AirFrictionStopsMotion) {
   WorldSpec s;
   s.gravity.setZero(), s.ground = false;
-  Body ball = body(Shape::sphere);
+  Body ball = body_of(Shape::sphere);
   ball.v = Eigen::Vector3d(1, 0.5, 0), ball.w = Eigen::Vector3d(0, 0, 20);
   World w(s, {ball});
   w.set_tip({Eigen::Vector3d(1, 1, 1), Eigen::Vector3d::Zero()});
@@ -231,9 +231,9 @@ TEST(RigidPairs, HitsConserveMomentumAndElasticOnesEnergy) {
       for (const Material m : {Material{1, 0}, Material{0.5, 0}, Material{0.5, 0.5}}) {
         WorldSpec s = free_space(1, 0, 0);
         s.pair = m;
-        Body moving = body(mover, 0.02, 0.05);
+        Body moving = body_of(mover, 0.02, 0.05);
         moving.x = Eigen::Vector3d(-0.06, y, 0.003), moving.v = Eigen::Vector3d(1, 0.1, 0), moving.q = turned;
-        World w(s, {body(target), moving});
+        World w(s, {body_of(target), moving});
         w.set_tip({Eigen::Vector3d(1, 1, 1), Eigen::Vector3d::Zero()});
         const Eigen::Vector3d p0 = w.momentum();
         const double e0 = w.kinetic_energy();
@@ -243,8 +243,12 @@ TEST(RigidPairs, HitsConserveMomentumAndElasticOnesEnergy) {
                      std::to_string(m.restitution) + ", mu " + std::to_string(m.friction));
         EXPECT_GE(touches, 1);
         EXPECT_LT((w.momentum() - p0).norm(), 1e-12 * p0.norm());
-        if (m.restitution == 1 && m.friction == 0) EXPECT_NEAR(w.kinetic_energy(), e0, 1e-12 * e0);
-        if (m.restitution < 1 || m.friction > 0) EXPECT_LT(w.kinetic_energy(), e0);
+        if (m.restitution == 1 && m.friction == 0) {
+          EXPECT_NEAR(w.kinetic_energy(), e0, 1e-12 * e0);
+        }
+        if (m.restitution < 1 || m.friction > 0) {
+          EXPECT_LT(w.kinetic_energy(), e0);
+        }
         Contact c;
         EXPECT_FALSE(collide(w.bodies()[0], w.bodies()[1], 0, c));
       }
@@ -255,7 +259,7 @@ TEST(RigidPairs, HitsConserveMomentumAndElasticOnesEnergy) {
 TEST(RigidPairs, EqualSpheresHeadOnSwapVelocities) {
   WorldSpec s = free_space(1, 0, 0);
   s.pair = Material{1, 0};
-  Body a = body(Shape::sphere), b = body(Shape::sphere);
+  Body a = body_of(Shape::sphere), b = body_of(Shape::sphere);
   b.x = Eigen::Vector3d(-0.1, 0, 0), b.v = Eigen::Vector3d(1, 0, 0);
   World w(s, {a, b});
   w.set_tip({Eigen::Vector3d(1, 1, 1), Eigen::Vector3d::Zero()});
@@ -276,7 +280,7 @@ TEST(RigidPairs, DroppedBodiesComeToRestOnEachOther) {
   };
   for (const Case& k : {Case{Shape::cube, Shape::sphere, 0.002}, Case{Shape::sphere, Shape::cube, 0.004},
                         Case{Shape::cube, Shape::cube, 0.003}}) {
-    Body low = body(k.low, a, 0.05), high = body(k.high, a, 0.05);
+    Body low = body_of(k.low, a, 0.05), high = body_of(k.high, a, 0.05);
     low.x = Eigen::Vector3d(0, 0, a), high.x = Eigen::Vector3d(k.x, 0, 3 * a + 0.01);
     World w(WorldSpec{}, {low, high});
     w.set_tip({Eigen::Vector3d(1, 1, 1), Eigen::Vector3d::Zero()});
@@ -301,16 +305,16 @@ TEST(RigidPairs, DroppedBodiesComeToRestOnEachOther) {
 }
 
 TEST(Rigid, BadInputIsRefused) {
-  Body bad = body(Shape::cube);
+  Body bad = body_of(Shape::cube);
   bad.mass = -1;
   EXPECT_THROW(World(WorldSpec{}, {bad}), std::invalid_argument);
   WorldSpec s;
   s.tip.restitution = 1.5;
-  EXPECT_THROW(World(s, {body(Shape::cube)}), std::invalid_argument);
+  EXPECT_THROW(World(s, {body_of(Shape::cube)}), std::invalid_argument);
   s = WorldSpec{};
   s.pair.friction = -1;
-  EXPECT_THROW(World(s, {body(Shape::cube)}), std::invalid_argument);
-  World w(WorldSpec{}, {body(Shape::cube)});
+  EXPECT_THROW(World(s, {body_of(Shape::cube)}), std::invalid_argument);
+  World w(WorldSpec{}, {body_of(Shape::cube)});
   EXPECT_THROW(w.set_tip({Eigen::Vector3d(NAN, 0, 0), Eigen::Vector3d::Zero()}), std::invalid_argument);
   EXPECT_THROW(w.step(0), std::invalid_argument);
   EXPECT_THROW(parse_shape("torus"), std::invalid_argument);

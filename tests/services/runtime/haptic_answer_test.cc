@@ -11,14 +11,14 @@ namespace hcosim::services::runtime {
 namespace {
 
 // Every in-process DDS test gets its own domain so ctest -j stays safe.
-constexpr int kDomain = 151;
+constexpr int kAnswerDomain = 151;
 
 // A source answers each state of its device as it arrives, with no loop of
 // its own running (in one process Fast DDS delivers on the writer's thread;
 // between processes, on the receiving one); another device's states are
 // not its to answer, and once stopped it answers nothing more.
 TEST(AnswerOnArrival, AnswersEveryStateOfItsDeviceAsItArrivesUntilStopped) {
-  Participant p(kDomain, "unit_answer");
+  Participant p(kAnswerDomain, "unit_answer");
   Reader<HapticState> in(p, nullptr, nullptr, "control", 64);
   Writer<HapticState> out(p, "state");  // reliable: none of the states is lost on the way
   std::mutex m;

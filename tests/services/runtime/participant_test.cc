@@ -13,17 +13,17 @@ namespace hcosim::services::runtime {
 namespace {
 
 // Every in-process DDS test gets its own domain so ctest -j stays safe.
-constexpr int kDomain = 151;
+constexpr int kParticipantDomain = 151;
 
 TEST(Participant, RefusesABadDomainAndQosFile) {
   EXPECT_THROW(Participant(233, "x"), std::runtime_error);
-  EXPECT_THROW(Participant(kDomain, "x", "/nonexistent.xml"), std::runtime_error);
+  EXPECT_THROW(Participant(kParticipantDomain, "x", "/nonexistent.xml"), std::runtime_error);
 }
 
 // A lockstep step sees only samples stamped before it, in step order,
 // whatever order they were written in; later ones wait for their step.
 TEST(Participant, LockstepReadersHoldSamplesUntilTheirStep) {
-  Participant p(kDomain, "unit_lockstep", default_qos_file(), nullptr, true);
+  Participant p(kParticipantDomain, "unit_lockstep", default_qos_file(), nullptr, true);
   Reader<HapticState> reader(p);
   Writer<HapticState> writer(p);
   const std::int64_t deadline = mono_ns() + 5'000'000'000;
@@ -52,7 +52,7 @@ TEST(Participant, LockstepReadersHoldSamplesUntilTheirStep) {
 // remove them (VOLATILE), and such a reader does not even match them.
 TEST(Participant, LockstepClockWritersKeepTheirLastSamples) {
   using namespace eprosima::fastdds::dds;
-  Participant p(kDomain, "unit_kept", default_qos_file(), nullptr, true);
+  Participant p(kParticipantDomain, "unit_kept", default_qos_file(), nullptr, true);
   Reader<ClockTick> now(p);
   Writer<ClockTick> ticks(p);
   Writer<RigidBodyState> bodies(p);
@@ -90,13 +90,13 @@ TEST(Participant, LockstepClockWritersKeepTheirLastSamples) {
 TEST(Participant, TheBulkCapPacesLargeSamplesOnly) {
   Network capped;
   capped.bulk_bytes_per_s = 1e6;
-  Participant p(kDomain, "unit_paced", default_qos_file(), nullptr, false, {}, capped);
+  Participant p(kParticipantDomain, "unit_paced", default_qos_file(), nullptr, false, {}, capped);
   EXPECT_TRUE(Writer<DeformedMesh>(p).paced());
   EXPECT_TRUE(Writer<CameraFrame>(p).paced());
   EXPECT_FALSE(Writer<ForceFeedback>(p).paced());
   Writer<DeformedMesh> w(p);
   EXPECT_TRUE(w.caught_up()) << "nothing written, nothing to acknowledge";
-  Participant q(kDomain, "unit_unpaced");
+  Participant q(kParticipantDomain, "unit_unpaced");
   EXPECT_FALSE(Writer<DeformedMesh>(q).paced());
 }
 

@@ -6,24 +6,16 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <functional>
 
 #include <gtest/gtest.h>
+
+#include "tests/support/temp_dir.h"
 
 namespace hcosim::services::runtime {
 namespace {
 
-std::string temp(const std::string& name) {
+std::string recording_temp(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("hcosim_recording_test_" + name)).string();
-}
-
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "no error";
 }
 
 std::vector<Record> samples() {
@@ -53,7 +45,7 @@ std::vector<Record> samples() {
 class RecordingFormats : public testing::TestWithParam<RecordingFormat> {};
 
 TEST_P(RecordingFormats, RecordsReadBackAsWritten) {
-  const std::string path = temp(GetParam() == RecordingFormat::mcap ? "r.mcap" : "r.rec");
+  const std::string path = recording_temp(GetParam() == RecordingFormat::mcap ? "r.mcap" : "r.rec");
   const std::vector<Record> in = samples();
   RecordingWriter w(path);
   for (const Record& r : in) w.write(r);
@@ -81,7 +73,7 @@ INSTANTIATE_TEST_SUITE_P(Both, RecordingFormats, testing::Values(RecordingFormat
 // Each channel: the topic, CDR, and a schema named by the type's scoped
 // name holding every type it uses, with no #include left.
 TEST(Recording, McapChannelsCarryTheirTypesAsSelfContainedIdl) {
-  const std::string path = temp("schemas.mcap");
+  const std::string path = recording_temp("schemas.mcap");
   RecordingWriter w(path, RecordingFormat::mcap, McapCompression::lz4);
   for (const Record& r : samples()) w.write(r);
   w.close();
@@ -101,7 +93,7 @@ TEST(Recording, McapChannelsCarryTheirTypesAsSelfContainedIdl) {
     EXPECT_NE(s.data.find("struct StepStamp {"), std::string::npos);
   }
   EXPECT_EQ(idl_schema("hcosim::Vec3"), idl_schema("hcosim::Quat"));  // common.idl alone
-  EXPECT_NE(error_of([] { idl_schema("hcosim::Jelly"); }).find("no IDL file declares 'hcosim::Jelly'"),
+  EXPECT_NE(tests::message_of([] { idl_schema("hcosim::Jelly"); }).find("no IDL file declares 'hcosim::Jelly'"),
             std::string::npos);
   std::remove(path.c_str());
 }
@@ -109,7 +101,7 @@ TEST(Recording, McapChannelsCarryTheirTypesAsSelfContainedIdl) {
 // An MCAP file from elsewhere: channels of other topics or encodings are
 // skipped and counted; a contract topic under another schema is refused.
 TEST(Recording, AForeignMcapIsReadForTheContractsTopicsOnly) {
-  const std::string path = temp("foreign.mcap");
+  const std::string path = recording_temp("foreign.mcap");
   const Record h = samples()[0];
   {
     McapWriter w(path, McapCompression::zstd);
@@ -141,7 +133,7 @@ TEST(Recording, AForeignMcapIsReadForTheContractsTopicsOnly) {
     w.write(m);
     w.close();
   }
-  EXPECT_NE(error_of([&] {
+  EXPECT_NE(tests::message_of([&] {
               RecordingReader bad(path);
               for (Record rec; bad.next(rec);) {
               }

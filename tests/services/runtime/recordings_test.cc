@@ -17,7 +17,7 @@ namespace {
 
 // A domain of its own: the other runtime tests' participants on 151 would
 // match these writers.
-constexpr int kDomain = 152;
+constexpr int kRecordingsDomain = 152;
 
 // Polls `done` for up to 5 s.
 template <class Done>
@@ -29,11 +29,11 @@ bool within_5_s(Done&& done) {
 
 TEST(Recordings, WritersReachARecordingOnceItsReadersMatch) {
   Recordings recordings;
-  Participant service(kDomain, "unit_follower", default_qos_file(), &recordings);
+  Participant service(kRecordingsDomain, "unit_follower", default_qos_file(), &recordings);
   Writer<HapticState> states(service);
   Writer<ForceFeedback> forces(service);
   // Another participant that reads both is no recording.
-  Participant other(kDomain, "unit_other");
+  Participant other(kRecordingsDomain, "unit_other");
   Reader<HapticState> other_states(other);
   Reader<ForceFeedback> other_forces(other);
   ASSERT_TRUE(within_5_s([&] { return states.matched() == 1 && forces.matched() == 1; }));
@@ -41,11 +41,11 @@ TEST(Recordings, WritersReachARecordingOnceItsReadersMatch) {
   EXPECT_TRUE(unreached(service, recordings.prefixes()).empty());
 
   // An up that does not record is counted, and not waited for.
-  Participant up(kDomain, kUpParticipant);
+  Participant up(kRecordingsDomain, kUpParticipant);
   ASSERT_TRUE(within_5_s([&] { return recordings.ups() == 1; }));
   EXPECT_TRUE(recordings.prefixes().empty());
 
-  auto recording = std::make_unique<Participant>(kDomain, kRecordingParticipant);
+  auto recording = std::make_unique<Participant>(kRecordingsDomain, kRecordingParticipant);
   auto recorded_states = std::make_unique<Reader<HapticState>>(*recording);
   ASSERT_TRUE(within_5_s([&] { return recordings.prefixes().size() == 1; }));
   EXPECT_EQ(recordings.ups(), 2);

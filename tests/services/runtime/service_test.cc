@@ -15,12 +15,12 @@ namespace hcosim::services::runtime {
 namespace {
 
 // Every in-process DDS test gets its own domain so ctest -j stays safe.
-constexpr int kDomain = 151;
+constexpr int kServiceDomain = 151;
 
 Options options(double rate, double duration) {
   Options o;
   o.name = "unit";
-  o.domain = kDomain;
+  o.domain = kServiceDomain;
   o.rate_hz = rate;
   o.step_s = 1.0 / rate;
   o.duration_s = duration;
