@@ -12,7 +12,6 @@
 namespace hcosim::services::foxglove {
 
 using WsClient = websocketpp::client<websocketpp::config::asio_client>;
-using json = nlohmann::json;
 
 struct Client::Impl {
   WsClient ws;
@@ -33,23 +32,23 @@ struct Client::Impl {
       ++counts.per_topic[topic_of[sub]];
       return;
     }
-    const json j = json::parse(p, nullptr, false);
+    const nlohmann::json j = nlohmann::json::parse(p, nullptr, false);
     if (j.is_discarded() || !j.is_object()) return;
     if (j.value("op", "") == "status") {
       std::lock_guard<std::mutex> l(m);
       ++counts.statuses;
     } else if (j.value("op", "") == "advertise") {
-      json subs = json::array();
+      nlohmann::json subs = nlohmann::json::array();
       {
         std::lock_guard<std::mutex> l(m);
-        for (const json& c : j["channels"]) {
+        for (const nlohmann::json& c : j["channels"]) {
           const std::uint32_t id = c["id"];
           topic_of[id] = c["topic"];
           subs.push_back({{"id", id}, {"channelId", id}});
           ++counts.channels;
         }
       }
-      con->send(json{{"op", "subscribe"}, {"subscriptions", subs}}.dump(), websocketpp::frame::opcode::text);
+      con->send(nlohmann::json{{"op", "subscribe"}, {"subscriptions", subs}}.dump(), websocketpp::frame::opcode::text);
     }
   }
 };

@@ -23,7 +23,7 @@ using json = nlohmann::json;
 
 // The protocol's binary opcodes, server to client.
 constexpr std::uint8_t kMessageData = 1;
-constexpr std::uint8_t kTime = 2;
+constexpr std::uint8_t kTimeData = 2;
 // A client's requests are small JSON texts.
 constexpr std::size_t kMaxRequestBytes = 1 << 16;
 // How often the socket thread sends what waits: well under a frame of
@@ -180,7 +180,7 @@ struct Server::Impl {
           put_le(&frame[5], out.time_ns, 8);
           ++sent;
         } else {
-          frame[0] = char(kTime);
+          frame[0] = char(kTimeData);
           put_le(&frame[1], out.time_ns, 8);
         }
         bytes += frame.size();
