@@ -20,6 +20,7 @@ struct FoxgloveOptions {
 };
 
 int serve(const FoxgloveOptions& o) {
+  foxglove::keep_freed_memory();
   runtime::install_stop_handlers();
   adapters::scene::Options scene;
   std::vector<adapters::scene::Item> items;

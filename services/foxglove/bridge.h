@@ -75,6 +75,11 @@ class Bridge {
   std::vector<std::function<void()>> stops_;  // each reader's, owning it
 };
 
+// For a process that runs a bridge, before it starts: buffers up to 16 MB
+// come from the heap and freed memory is kept for the next camera frame,
+// where glibc's defaults map each large buffer afresh.
+void keep_freed_memory();
+
 // One line of what a bridge and its server did, for a closing line.
 std::string summary(const Server& server, const Bridge& bridge);
 

@@ -3,8 +3,6 @@
 // scene's Foxglove channels over the Foxglove WebSocket protocol, and
 // steps only to tell its clients the time. It observes: in lockstep it
 // runs on the wall clock and the lockstep clock does not wait for it.
-#include <malloc.h>
-
 #include <cstdio>
 
 #include "services/foxglove/bridge.h"
@@ -15,13 +13,7 @@ using namespace hcosim;
 using namespace hcosim::services;
 
 int main(int argc, char** argv) {
-  // Camera frames (900 KB) pass through here 25 times a second, copied
-  // on three threads. glibc's defaults map each such buffer afresh and
-  // give freed ones back to the kernel, so every copy faulted its pages
-  // in again: half the bridge's CPU time (docs/foxglove.md, "Measured").
-  // Freed memory is kept for the next frame instead.
-  mallopt(M_MMAP_THRESHOLD, 16 << 20);
-  mallopt(M_TRIM_THRESHOLD, 64 << 20);
+  foxglove::keep_freed_memory();
   return runtime::service_main(
       "hcosim_foxglove", "the live Foxglove bridge: topics and scene channels over foxglove.websocket.v1", argc, argv,
       [](runtime::Options options) {
