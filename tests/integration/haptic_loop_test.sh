@@ -117,9 +117,9 @@ services:
     priority: 30  # a force source, as the rigid and deformable kinds are by default
     params: {role: wall, stiffness: 500, delay: 0.003}
 YAML
-start state "$BIN/hcosim" echo HapticState --count 0 --timeout 8
+start state "$BIN/hcosim" echo HapticState --count 0
 limit 30 "$BIN/hcosim" up "$WORK/late.yaml" --out "$WORK/late" >"$WORK/late.log" 2>&1 || fail "up exited $?"
-wait "${PIDS[-1]}"
+stop_echoes "${PIDS[-1]}"
 grep "omni:" "$WORK/late/logs/omni.log"
 modelled=$(jq -r .modelled "$WORK/late.json")
 [ "$modelled" -gt 1000 ] || fail "only $modelled ticks rendered from the wall's local model"

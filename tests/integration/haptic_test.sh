@@ -24,11 +24,13 @@ services:
     priority: 30  # a force source, as the rigid and deformable kinds are by default
     params: {role: wall, stiffness: 500, nan_every: 50}
 YAML
-start state "$BIN/hcosim" echo HapticState --count 0 --timeout 6
-start status "$BIN/hcosim" echo ServiceStatus --count 0 --timeout 6
+# The echoes listen until the deployment has ended (stop_echoes), not to a
+# deadline that a slow start on a loaded machine can reach first.
+start state "$BIN/hcosim" echo HapticState --count 0
+start status "$BIN/hcosim" echo ServiceStatus --count 0
 start record "$BIN/hcosim" record --device omni --duration 6 --out "$WORK/omni.csv"
 limit 30 "$BIN/hcosim" up "$WORK/up.yaml" --out "$WORK/out" >"$WORK/up.log" 2>&1 || fail "up exited $?"
-wait "${PIDS[0]}"
+stop_echoes "${PIDS[0]}" "${PIDS[1]}"
 summary=$(grep "omni:.*ticks" "$WORK/out/logs/omni.log") || fail "no summary from the haptic service"
 answered=$(echo "$summary" | sed -nE 's/.* ([0-9]+) answered.*/\1/p')
 [ "${answered:-0}" -gt 1000 ] || fail "only ${answered:-0} states answered by the wall: $summary"
@@ -42,7 +44,6 @@ fz=$(grep -oE '"rendered_force":\{"x":[^}]*"z":-?[0-9.e+-]+' "$WORK/state.log" |
 echo "$fz" | awk '{ if ($1 > m) m = $1 } END { exit !(m > 1.2 && m <= 3.3) }' || fail "rendered force out of range"
 wait "${PIDS[2]}" || fail "record exited $?"
 # One answer in 50 carries a NaN force: refused and counted, never output.
-wait "${PIDS[1]}"
 grep '"service":"omni"' "$WORK/status.log" | grep -q '"samples_rejected":[1-9]' || fail "omni did not count NaN forces"
 grep -q 'ForceFeedback: force.y is' "$WORK/status.log" || fail "rejection reason missing"
 grep -q 'null' "$WORK/state.log" && fail "a non-finite value reached HapticState"
@@ -71,9 +72,7 @@ services:
 YAML
 start replayed "$BIN/hcosim" echo HapticState --count 0
 limit 30 "$BIN/hcosim" up "$WORK/replay.yaml" --out "$WORK/out2" >"$WORK/up2.log" 2>&1 || fail "replay up exited $?"
-sleep 0.5
-kill -INT "${PIDS[3]}"
-wait "${PIDS[3]}" || fail "echo exited $? on SIGINT"
+stop_echoes "${PIDS[3]}"
 sed -nE 's/.*"device_time_s":([0-9.e+-]+),"position":\{"x":[^}]*"z":(-?[0-9.e+-]+).*/\1 \2/p' "$WORK/replayed.log" >"$WORK/replayed.tz"
 verdict=$(tail -n +2 "$WORK/omni.csv" | tr , ' ' | awk -v played="$WORK/replayed.tz" '
   { t[n] = $1; z[n] = $4; n++ }
