@@ -101,7 +101,7 @@ void write(const fs::path& path, models::deformable::Weights w) {
   });
 }
 
-constexpr std::uint64_t kGainMagic = 0x31'6e'69'61'67'6f'63'68ULL;  // "hcogain1"
+constexpr std::uint64_t kGainMagic = 0x32'6e'69'61'67'6f'63'68ULL;  // "hcogain2": with the compliances
 
 // The gain in `path` if it holds one; else an empty one.
 models::deformable::ForceGain read_gain(const fs::path& path) {
@@ -118,7 +118,14 @@ models::deformable::ForceGain read_gain(const fs::path& path) {
     v->resize(std::size_t(n));
     in.read(reinterpret_cast<char*>(v->data()), std::streamsize(sizeof(double) * v->size()));
   }
-  if (!in || in.peek() != EOF) return {};
+  std::int64_t vertices = -1;
+  in.read(reinterpret_cast<char*>(&g.soft_compliance), sizeof g.soft_compliance);
+  in.read(reinterpret_cast<char*>(&g.stiff_compliance), sizeof g.stiff_compliance);
+  in.read(reinterpret_cast<char*>(&vertices), sizeof vertices);
+  if (!in || vertices < 0 || vertices > (std::int64_t(1) << 28)) return {};
+  g.compliance.resize(std::size_t(vertices));
+  in.read(reinterpret_cast<char*>(g.compliance.data()), std::streamsize(sizeof(double) * g.compliance.size()));
+  if (!in || in.peek() != EOF || !(g.soft_compliance > 0) || (stiff && !(g.stiff_compliance > 0))) return {};
   return g;
 }
 
@@ -129,6 +136,12 @@ void write_gain(const fs::path& path, const models::deformable::ForceGain& g) {
     out.write(reinterpret_cast<const char*>(header), sizeof header);
     for (const auto* v : {&g.depth, &g.soft, &g.stiff})
       out.write(reinterpret_cast<const char*>(v->data()), std::streamsize(sizeof(double) * v->size()));
+    const std::int64_t vertices = std::int64_t(g.compliance.size());
+    out.write(reinterpret_cast<const char*>(&g.soft_compliance), sizeof g.soft_compliance);
+    out.write(reinterpret_cast<const char*>(&g.stiff_compliance), sizeof g.stiff_compliance);
+    out.write(reinterpret_cast<const char*>(&vertices), sizeof vertices);
+    out.write(reinterpret_cast<const char*>(g.compliance.data()),
+              std::streamsize(sizeof(double) * g.compliance.size()));
   });
 }
 

@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <Eigen/SparseCholesky>
+
 #include "models/deformable/surface.h"
 #include "models/massspring/quartet.h"
 
@@ -254,29 +256,13 @@ Eigen::Vector3d behavior_static_force(const HybridSpec& spec, int mass, const Ei
 }
 
 std::vector<double> gain_inputs(const HybridSpec& s) {
-  std::vector<double> in{double(kForceGainVersion),
-                         double(s.elements),
-                         s.size,
-                         s.chain.stiffness,
-                         s.chain.stretch,
-                         s.chain.compress,
-                         s.chain.shear,
-                         s.relax_rate,
-                         s.limit_stiffness,
-                         s.material.mass,
-                         s.material.k,
-                         s.material.b,
-                         s.material.drag,
-                         s.volume,
-                         s.volume_floor,
-                         s.stiff_ratio,
-                         double(s.behavior_model),
-                         s.fem.young,
-                         s.fem.poisson,
-                         s.fem.density,
-                         s.fem.alpha,
-                         s.fem.beta,
-                         double(s.modes)};
+  std::vector<double> in{double(kForceGainVersion), double(s.elements), s.size, s.chain.stiffness, s.chain.stretch,
+                         s.chain.compress, s.chain.shear, s.relax_rate, s.limit_stiffness, s.material.mass,
+                         s.material.k, s.material.b, s.material.drag, s.volume, s.volume_floor, s.stiff_ratio,
+                         double(s.behavior_model), s.fem.young, s.fem.poisson, s.fem.density, s.fem.alpha, s.fem.beta,
+                         double(s.modes),
+                         // The surface pressed and its map row (a shape's own mesh is below).
+                         double(s.visual_subdivisions), s.visual_exponent, double(s.map), s.keep};
   for (int v = 0; v < s.shape.vertices.cols(); ++v)
     for (int c = 0; c < 3; ++c) in.push_back(s.shape.vertices(c, v));
   for (const Eigen::Vector3i& t : s.shape.triangles)
@@ -284,19 +270,380 @@ std::vector<double> gain_inputs(const HybridSpec& s) {
   return in;
 }
 
+namespace {
+
+// y at x in a table of increasing xs and positive ys: the power law
+// through the two samples beside it (a straight line on log scales, as
+// the forces of a press grow), proportional to x below the first; y =
+// 0 where a sample is not positive.
+double power_between(const std::vector<double>& xs, const double* ys, double x) {
+  if (x <= xs.front()) return ys[0] * x / xs.front();
+  const std::size_t n = xs.size();
+  const std::size_t k =
+      std::min<std::size_t>(std::size_t(std::upper_bound(xs.begin(), xs.end(), x) - xs.begin()), n - 1);
+  if (!(ys[k - 1] > 0 && ys[k] > 0)) return 0;
+  return ys[k - 1] * std::pow(ys[k] / ys[k - 1], std::log(x / xs[k - 1]) / std::log(xs[k] / xs[k - 1]));
+}
+
+}  // namespace
+
 double ForceGain::at(double d, bool stiff_side) const {
-  const std::vector<double>& g = stiff_side && !stiff.empty() ? stiff : soft;
-  if (d <= depth.front()) return g.front();
-  if (d >= depth.back()) return g.back();
-  const std::size_t k = std::size_t(std::upper_bound(depth.begin(), depth.end(), d) - depth.begin());
-  const double w = (d - depth[k - 1]) / (depth[k] - depth[k - 1]);
-  return (1 - w) * g[k - 1] + w * g[k];
+  return power_between(depth, (stiff_side && !stiff.empty() ? stiff : soft).data(), d);
+}
+
+namespace {
+
+// The chain element (a grid node) a side's felt force is calibrated at:
+// the top element in the middle of that side's half (of the whole top
+// when both sides are one), the highest node of column (i, n.y / 2) or of
+// the nearest column that has one.
+int gain_element(const HybridSpec& spec, const models::massspring::Voxels& voxels, bool stiff) {
+  const std::vector<int> mass = voxels.masses();
+  const Eigen::Array3i n = voxels.nodes();
+  const int i = spec.stiff_ratio == 1 ? n.x() / 2 : stiff ? n.x() - 1 - n.x() / 4 : n.x() / 4;
+  int e = -1;
+  for (int k = n.z() - 1; k >= 0; --k)
+    for (int j = 0; j < n.y(); ++j)
+      for (int c = 0; c < n.x(); ++c) {
+        const int node = int(voxels.node(c, j, k));
+        if (mass[node] < 0) continue;
+        const auto off = [&](int m) {
+          const int di = m % n.x() - i, dj = m / n.x() % n.y() - n.y() / 2;
+          return di * di + dj * dj;
+        };
+        if (e < 0 || off(node) < off(e)) e = node;
+      }
+  return e;
+}
+
+// A side's gain point, and the chain element touch() takes there: the
+// middle of a top cell face beside the side's gain element (half a cell
+// along +x and +y from its node), where a press spreads over four masses
+// as it does almost anywhere, not onto one.
+std::pair<Eigen::Vector3d, int> gain_point(const HybridSpec& spec, const models::massspring::Voxels& voxels,
+                                           const SChain& chains, bool stiff) {
+  const Eigen::Vector3d p =
+      chains.lattice().rest(gain_element(spec, voxels, stiff)) + 0.5 * voxels.spacing * Eigen::Vector3d(1, 1, 0);
+  return {p, chains.nearest_surface(p)};
+}
+
+// The visual vertex nearest a point (rest, world).
+int nearest_vertex(const Eigen::Matrix3Xd& vertices, const Eigen::Vector3d& p) {
+  int v = 0;
+  (vertices.colwise() - p).colwise().squaredNorm().minCoeff(&v);
+  return v;
+}
+
+// The visual map's cage: the masses it reads, where their rest is drawn
+// for its weights, and its triangles (empty for the trilinear map, whose
+// cage is every mass where it is).
+struct Cage {
+  std::vector<int> masses;
+  Eigen::Matrix3Xd rest;
+  std::vector<Eigen::Vector3i> triangles;
+};
+
+Cage map_cage(const HybridSpec& spec, const models::massspring::Voxels& voxels, const models::massspring::Lattice& lat,
+              const models::massspring::TriangleMesh& visual) {
+  Cage c;
+  if (spec.map == VisualMap::trilinear) {
+    for (int i = 0; i < lat.size(); ++i) c.masses.push_back(i);
+    return c;
+  }
+  const GridSurface g = voxel_surface(voxels);
+  c.masses = g.nodes, c.triangles = g.triangles;
+  c.rest.resize(3, c.masses.size());
+  for (std::size_t v = 0; v < c.masses.size(); ++v) c.rest.col(v) = lat.rest.col(c.masses[v]);
+  if (!spec.shape.triangles.empty()) {
+    // A shape's surface lies up to a cell from the cells' boundary, where
+    // mean value weights spread a point over much of the cage: the map's
+    // cage is moved toward the surface, each node by at most 0.45 of a
+    // cell so that no two meet. The map then reads the masses'
+    // displacements, which are the same wherever their rest is drawn.
+    const MeshProxy shape(visual.triangles, int(visual.vertices.cols()));
+    for (int v = 0; v < c.rest.cols(); ++v) {
+      const Eigen::Vector3d to =
+          shape.point(visual.vertices, shape.closest(visual.vertices, c.rest.col(v))) - c.rest.col(v);
+      c.rest.col(v) += to * std::min(1.0, 0.45 * voxels.spacing / std::max(to.norm(), 1e-300));
+    }
+  }
+  return c;
+}
+
+// The map's rows for `points` (visual rest points, 3 x m): what
+// Hybrid's map holds for them.
+Weights map_rows(const HybridSpec& spec, const models::massspring::Voxels& voxels, const Cage& cage,
+                 const Eigen::Matrix3Xd& points) {
+  if (spec.map == VisualMap::trilinear) {
+    const Eigen::Array3i n = voxels.nodes();
+    return trilinear_weights(n.x(), n.y(), n.z(), voxels.spacing, voxels.origin, points);
+  }
+  return mvc_map(spec, cage.rest, cage.triangles, points);
+}
+
+// N/m: the behavior model's stiffness at rest over its free masses (mass
+// i's x, y, z at 3 dof[i] + 0, 1, 2; dof -1: anchored). The springs' is
+// their axial stiffness (at rest they carry no tension, and no volume
+// floor is engaged); the FEM's and the modal model's is the FEM's.
+Eigen::SparseMatrix<double> rest_stiffness(const HybridSpec& spec, const models::massspring::Lattice& lat,
+                                           const std::vector<int>& dof, int free) {
+  std::vector<Eigen::Triplet<double>> t;
+  auto add = [&](int i, int j, int r, int c, double v) {
+    if (dof[i] >= 0 && dof[j] >= 0) t.emplace_back(3 * dof[i] + r, 3 * dof[j] + c, v);
+  };
+  if (spec.behavior_model != BehaviorModel::springs) {
+    const Eigen::SparseMatrix<double> k =
+        models::fem::Corotational(hybrid_mesh(spec), spec.fem, models::fem::Options{}).rest_stiffness();
+    for (int c = 0; c < k.outerSize(); ++c)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(k, c); it; ++it)
+        add(int(it.row() / 3), int(it.col() / 3), int(it.row() % 3), int(it.col() % 3), it.value());
+  } else {
+    for (const models::massspring::Spring& sp : lat.springs) {
+      const Eigen::Vector3d d = lat.rest.col(sp.j) - lat.rest.col(sp.i);
+      if (d.norm() <= 0) continue;
+      const Eigen::Matrix3d b = sp.k * d.normalized() * d.normalized().transpose();
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c)
+          add(sp.i, sp.i, r, c, b(r, c)), add(sp.j, sp.j, r, c, b(r, c)), add(sp.i, sp.j, r, c, -b(r, c)),
+              add(sp.j, sp.i, r, c, -b(r, c));
+    }
+  }
+  Eigen::SparseMatrix<double> k(3 * free, 3 * free);
+  k.setFromTriplets(t.begin(), t.end());
+  return k;
+}
+
+// m/N, by row of `rows` (points x cage): how far each point of the drawn
+// surface sinks along -normals.col(row) under 1 N pressing it, spread
+// over the cage's masses by its row as touch() spreads the force, at
+// rest: one factorisation, a solve a point.
+std::vector<double> rest_compliance(const HybridSpec& spec, const models::massspring::Lattice& lat, const Weights& rows,
+                                    const std::vector<int>& cage, const Eigen::Matrix3Xd& normals) {
+  std::vector<int> dof(lat.size(), -1);
+  int free = 0;
+  for (int i = 0; i < lat.size(); ++i)
+    if (!lat.anchored[i]) dof[i] = free++;
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(rest_stiffness(spec, lat, dof, free));
+  need_hybrid(ldlt.info() == Eigen::Success,
+              "the behavior model's stiffness at rest is singular: a mass holds by nothing");
+  std::vector<double> c(rows.rows(), 0);
+  Eigen::VectorXd push(3 * free);
+  for (int v = 0; v < rows.rows(); ++v) {
+    push.setZero();
+    for (Weights::InnerIterator w(rows, v); w; ++w)
+      if (const int d = dof[cage[w.col()]]; d >= 0) push.segment<3>(3 * d) += w.value() * normals.col(v);
+    c[v] = push.dot(ldlt.solve(push));
+  }
+  return c;
+}
+
+// The same in the modal model's kept modes: its static answer to a load
+// is the sum over them of the load's modal force times the shape over the
+// frequency squared.
+std::vector<double> modal_compliance(const models::fem::Modal& modal, const Weights& rows, const std::vector<int>& cage,
+                                     const Eigen::Matrix3Xd& normals) {
+  std::vector<Eigen::Matrix3Xd> shapes;
+  for (int k = 0; k < modal.modes(); ++k) shapes.push_back(modal.shape(k));
+  std::vector<double> c(rows.rows(), 0);
+  for (int v = 0; v < rows.rows(); ++v)
+    for (int k = 0; k < modal.modes(); ++k) {
+      double q = 0;  // the modal force of 1 N along -n, spread by the row
+      for (Weights::InnerIterator w(rows, v); w; ++w) q += w.value() * normals.col(v).dot(shapes[k].col(cage[w.col()]));
+      c[v] += q * q / (modal.frequencies()[k] * modal.frequencies()[k]);
+    }
+  return c;
+}
+
+// m/N, by row: the behavior model's own compliance at those points of
+// the drawn surface, the modal model's in its kept modes.
+std::vector<double> surface_compliance(const HybridSpec& spec, const models::massspring::Lattice& lat,
+                                       const models::fem::Modal* modal, const Weights& rows,
+                                       const std::vector<int>& cage, const Eigen::Matrix3Xd& normals) {
+  return modal ? modal_compliance(*modal, rows, cage, normals) : rest_compliance(spec, lat, rows, cage, normals);
+}
+
+// The modal model of a spec (BehaviorModel::modal; else none).
+std::unique_ptr<models::fem::Modal> modal_of(const HybridSpec& spec) {
+  if (spec.behavior_model != BehaviorModel::modal) return nullptr;
+  const models::fem::Corotational fem(hybrid_mesh(spec), spec.fem, models::fem::Options{});
+  return std::make_unique<models::fem::Modal>(fem, models::fem::ModalOptions{spec.behavior.dt, spec.modes});
+}
+
+// N: the S-Chain's force along n with element e pressed `depth` along -n
+// and held until its chains have relaxed: one tick long enough (1 s)
+// that the press is its steady state. Leaves the chains at rest.
+double chain_press(SChain& chain, int e, const Eigen::Vector3d& n, double depth) {
+  const Eigen::Vector3d rest = chain.lattice().rest(e);
+  chain.tick(1, e, rest - depth * n);
+  const double f = chain.force().dot(n);
+  chain.tick(1, -1, rest);
+  return f;
+}
+
+// N: a first guess at the force for `depth`, along the line through the
+// last two (depth, force) found, or at the compliance at rest.
+double extrapolated(const std::vector<double>& depths, const std::vector<double>& forces, double depth,
+                    double compliance) {
+  const std::size_t n = forces.size();
+  if (n == 0) return depth / compliance;
+  if (n == 1) return forces[0] * depth / depths[0];
+  return forces[n - 1] + (depth - depths[n - 1]) * (forces[n - 1] - forces[n - 2]) / (depths[n - 1] - depths[n - 2]);
+}
+
+// The behavior model of a spec loaded at one point of its drawn surface
+// as touch() loads it: a force along -n spread over masses by a map row,
+// settled by implicit Euler at 1 s steps (each close to a Newton step
+// towards rest; CG to `tolerance`), from where the last load left it.
+// (The modal model is linear: its answer is its compliance's.)
+class Pressed {
+ public:
+  Pressed(const HybridSpec& spec, std::vector<std::pair<int, double>> row, const Eigen::Vector3d& n, double tolerance)
+      : row_(std::move(row)), n_(n) {
+    if (spec.behavior_model != BehaviorModel::springs) {
+      models::fem::Options o;
+      o.dt = 1, o.tolerance = tolerance;
+      fem_ = std::make_unique<models::fem::Corotational>(hybrid_mesh(spec), spec.fem, o);
+      state_ = models::fem::rest_state(fem_->mesh());
+      rest_ = fem_->mesh().rest;
+    } else {
+      models::massspring::Options o;
+      o.integrator = models::massspring::Integrator::implicit_euler;
+      o.dt = 1, o.tolerance = tolerance;
+      springs_ = std::make_unique<models::massspring::Simulator>(hybrid_masses(spec), o);
+      state_ = models::massspring::rest_state(springs_->lattice());
+      rest_ = springs_->lattice().rest;
+    }
+  }
+  // m: how far the point sinks along -n under `force` (N), settled until
+  // that changes by under `change` of itself a step.
+  double sink(double force, double change) {
+    std::vector<models::massspring::PointForce> loads;
+    for (const auto& [m, w] : row_) loads.push_back({m, -force * w * n_});
+    double last = 1e300;
+    for (int k = 0; k < 1000; ++k) {
+      fem_ ? void(fem_->step(state_, loads)) : void(springs_->step(state_, loads));
+      const double s = at();
+      if (std::abs(s - last) <= change * std::abs(s)) break;
+      last = s;
+    }
+    return at();
+  }
+  // N: the force under which the point sinks `depth`, from `guess`: by
+  // secants, within the forces found to sink it less and more once there
+  // are both (regula falsi; bisection where the secant leaves them), as
+  // the force's growth with depth slows where cells give way.
+  double force_for(double depth, double guess) {
+    const double tolerance = 1e-2 * depth;
+    double f0 = guess, s0 = sink(f0, 3e-4);
+    if (std::abs(s0 - depth) <= tolerance) return f0;
+    double f1 = s0 > 0 ? f0 * depth / s0 : 2 * f0, s1 = sink(f1, 3e-4);
+    double lo = 0, hi = 1e300;  // N: forces that sink it less and more than depth
+    auto bracket = [&](double f, double sunk) { sunk < depth ? lo = std::max(lo, f) : hi = std::min(hi, f); };
+    bracket(f0, s0), bracket(f1, s1);
+    for (int k = 0; k < 40 && std::abs(s1 - depth) > tolerance; ++k) {
+      double f = s1 != s0 ? f1 + (depth - s1) * (f1 - f0) / (s1 - s0) : 2 * f1;
+      if (!(f > lo && f < hi)) f = hi < 1e300 ? 0.5 * (lo + hi) : 2 * std::max(f1, lo);
+      f0 = f1, s0 = s1, f1 = f, s1 = sink(f1, 3e-4);
+      bracket(f1, s1);
+    }
+    return f1;
+  }
+
+ private:
+  double at() const {
+    double s = 0;
+    for (const auto& [m, w] : row_) s -= w * n_.dot(state_.x.col(m) - rest_.col(m));
+    return s;
+  }
+  std::vector<std::pair<int, double>> row_;
+  Eigen::Vector3d n_;
+  std::unique_ptr<models::massspring::Simulator> springs_;
+  std::unique_ptr<models::fem::Corotational> fem_;
+  models::massspring::State state_;
+  Eigen::Matrix3Xd rest_;
+};
+
+// The point of the drawn surface nearest `point` (rest, world), loaded as
+// touch() loads a proxy there: along its normal, spread over its face's
+// vertices by their barycentric weights and from each over the masses by
+// its map row. `compliance` is what Hybrid::force_scale takes for it: its
+// vertices' compliances, weighted alike.
+struct SurfaceLoad {
+  std::vector<std::pair<int, double>> row;  // mass, weight
+  Eigen::Vector3d normal;
+  double compliance = 0;  // m/N
+};
+
+SurfaceLoad surface_load(const HybridSpec& spec, const models::massspring::Voxels& voxels,
+                         const models::massspring::Lattice& lat, const models::fem::Modal* modal,
+                         const models::massspring::TriangleMesh& visual, const Cage& cage,
+                         const Eigen::Vector3d& point) {
+  const MeshProxy mesh(visual.triangles, int(visual.vertices.cols()));
+  const SurfacePoint p = mesh.closest(visual.vertices, point);
+  const Eigen::Vector3i& face = mesh.triangle(p.face);
+  Eigen::Matrix3Xd at(3, 3), normals(3, 3);
+  const Eigen::Matrix3Xd all = vertex_normals(visual.vertices, visual.triangles);
+  for (int k = 0; k < 3; ++k) at.col(k) = visual.vertices.col(face[k]), normals.col(k) = all.col(face[k]);
+  const Weights rows = map_rows(spec, voxels, cage, at);
+  const std::vector<double> c = surface_compliance(spec, lat, modal, rows, cage.masses, normals);
+  SurfaceLoad l;
+  std::map<int, double> by_mass;
+  for (int k = 0; k < 3; ++k) {
+    for (Weights::InnerIterator w(rows, k); w; ++w) by_mass[cage.masses[w.col()]] += p.bary[k] * w.value();
+    l.compliance += p.bary[k] * c[k];
+  }
+  l.row.assign(by_mass.begin(), by_mass.end());
+  l.normal = mesh.normal(visual.vertices, p);
+  return l;
+}
+
+// N, by depth (increasing): the forces under which a surface load's
+// point sinks that deep, pressed deeper step by step as a stylus presses
+// (past a snap-through a force has two depths, and the press follows the
+// one it is on); the modal model's, its compliance's.
+std::vector<double> surface_forces(const HybridSpec& spec, const models::fem::Modal* modal, const SurfaceLoad& l,
+                                   const std::vector<double>& depths) {
+  std::vector<double> f;
+  if (modal) {
+    for (const double d : depths) f.push_back(d / l.compliance);
+    return f;
+  }
+  Pressed pressed(spec, l.row, l.normal, 1e-5);
+  std::vector<double> at, force;  // m and N: every depth pressed to, and its force
+  for (const double d : depths) {
+    const double last = at.empty() ? 0 : at.back();
+    const int steps = std::max(1, int(std::ceil((d - last) / (0.05 * depths.back()))));
+    for (int k = 1; k <= steps; ++k) {
+      const double x = last + (d - last) * k / steps;
+      force.push_back(pressed.force_for(x, extrapolated(at, force, x, l.compliance)));
+      at.push_back(x);
+    }
+    f.push_back(force.back());
+  }
+  return f;
+}
+
+}  // namespace
+
+std::vector<double> behavior_surface_force(const HybridSpec& spec, const Eigen::Vector3d& point,
+                                           const std::vector<double>& depths) {
+  need_hybrid(point.allFinite(), "the point must be finite");
+  for (std::size_t j = 0; j < depths.size(); ++j)
+    need_hybrid(std::isfinite(depths[j]) && depths[j] > (j > 0 ? depths[j - 1] : 0),
+                "the depths must be finite, > 0 and increasing");
+  const models::massspring::Voxels voxels = hybrid_voxels(spec);
+  const models::massspring::Lattice lat = hybrid_masses(spec);
+  const models::massspring::TriangleMesh visual = hybrid_visual(spec);
+  const Cage cage = map_cage(spec, voxels, lat, visual);
+  const std::unique_ptr<models::fem::Modal> modal = modal_of(spec);
+  return surface_forces(spec, modal.get(), surface_load(spec, voxels, lat, modal.get(), visual, cage, point), depths);
 }
 
 ForceGain force_gain(const HybridSpec& spec) {
   const models::massspring::Voxels voxels = hybrid_voxels(spec);
-  const std::vector<int> mass = voxels.masses();
-  const Eigen::Array3i n = voxels.nodes();
+  const models::massspring::Lattice lat = hybrid_masses(spec);
+  const models::massspring::TriangleMesh visual = hybrid_visual(spec);
+  const Cage cage = map_cage(spec, voxels, lat, visual);
   const double extent = rest_box(spec).sizes().minCoeff();
   ForceGain gain;
   // Closer where the S-Chain's growth is steepest: a stiff side's short
@@ -304,42 +651,21 @@ ForceGain force_gain(const HybridSpec& spec) {
   for (const double f : {0.02, 0.03, 0.04, 0.06, 0.08, 0.1,  0.12, 0.14, 0.16, 0.2, 0.24,
                          0.28, 0.32, 0.4,  0.48, 0.56, 0.64, 0.72, 0.8,  0.88, 1.0})
     gain.depth.push_back(0.25 * extent * f);
-  // The top element in the middle of each side's half (of the whole top
-  // when both sides are one), pressed down in turn to every depth: the
-  // highest node of column (i, n.y / 2), or of the nearest column that
-  // has one.
-  auto side = [&](int i) {
-    int e = -1;
-    for (int k = n.z() - 1; k >= 0; --k)
-      for (int j = 0; j < n.y(); ++j)
-        for (int c = 0; c < n.x(); ++c) {
-          const int node = int(voxels.node(c, j, k));
-          if (mass[node] < 0) continue;
-          const auto off = [&](int m) {
-            const int di = m % n.x() - i, dj = m / n.x() % n.y() - n.y() / 2;
-            return di * di + dj * dj;
-          };
-          if (e < 0 || off(node) < off(e)) e = node;
-        }
-    Held held(spec, mass[e], 1e-5);
-    std::vector<double> g;
-    for (const double d : gain.depth) {
-      const double behavior = held.settle(held.rest().col(mass[e]) - Eigen::Vector3d(0, 0, d), 1e-3).z();
-      // The S-Chain as a stylus presses it: down over 100 ticks, held 200.
-      SChain chain(hybrid_chains(spec), spec.relax_rate, spec.limit_stiffness);
-      const Eigen::Vector3d rest = chain.lattice().rest(e);
-      for (int k = 0; k < 300; ++k)
-        chain.tick(1e-3, e, rest - Eigen::Vector3d(0, 0, d * std::min(1.0, (k + 1) / 100.0)));
-      g.push_back(behavior / chain.force().z());
-    }
-    return g;
+  // Each side's gain element's point of the drawn surface, pressed in turn
+  // to every depth, and its chains pressed as deep.
+  const std::unique_ptr<models::fem::Modal> modal = modal_of(spec);
+  const SChain chain(hybrid_chains(spec), spec.relax_rate, spec.limit_stiffness);
+  auto side = [&](bool stiff, double* compliance) {
+    const SurfaceLoad l =
+        surface_load(spec, voxels, lat, modal.get(), visual, cage, gain_point(spec, voxels, chain, stiff).first);
+    *compliance = l.compliance;
+    return surface_forces(spec, modal.get(), l, gain.depth);
   };
-  if (spec.stiff_ratio == 1) {
-    gain.soft = side(n.x() / 2);
-  } else {
-    gain.soft = side(n.x() / 4);
-    gain.stiff = side(n.x() - 1 - n.x() / 4);
-  }
+  gain.soft = side(false, &gain.soft_compliance);
+  if (spec.stiff_ratio != 1) gain.stiff = side(true, &gain.stiff_compliance);
+  if (lat.size() <= ForceGain::kMostMasses)
+    gain.compliance = surface_compliance(spec, lat, modal.get(), map_rows(spec, voxels, cage, visual.vertices),
+                                         cage.masses, vertex_normals(visual.vertices, visual.triangles));
   return gain;
 }
 
@@ -392,33 +718,30 @@ Hybrid::Hybrid(const HybridSpec& spec, const MapSource& map, const GainSource& g
   visual_ = hybrid_visual(spec);
   const models::massspring::Voxels voxels = hybrid_voxels(spec);
   const models::massspring::Lattice& lat = masses_->lattice();
+  const Cage cage = map_cage(spec, voxels, lat, visual_);
+  cage_ = cage.masses;
   if (spec.map == VisualMap::trilinear) {
-    // A cube's: its masses are every node of the grid.
-    const Eigen::Array3i n = voxels.nodes();
-    for (int i = 0; i < lat.size(); ++i) cage_.push_back(i);
-    weights_ = trilinear_weights(n.x(), n.y(), n.z(), voxels.spacing, voxels.origin, visual_.vertices);
+    weights_ = map_rows(spec, voxels, cage, visual_.vertices);
   } else {
-    const GridSurface g = voxel_surface(voxels);
-    cage_ = g.nodes;
-    Eigen::Matrix3Xd cage(3, cage_.size());
-    for (std::size_t v = 0; v < cage_.size(); ++v) cage.col(v) = lat.rest.col(cage_[v]);
-    if (!spec.shape.triangles.empty()) {
-      // A shape's surface lies up to a cell from the cells' boundary, where
-      // mean value weights spread a point over much of the cage: the map's
-      // cage is moved toward the surface, each node by at most 0.45 of a
-      // cell so that no two meet. The map then reads the masses'
-      // displacements, which are the same wherever their rest is drawn.
-      const MeshProxy shape(visual_.triangles, int(visual_.vertices.cols()));
-      for (int v = 0; v < cage.cols(); ++v) {
-        const Eigen::Vector3d to =
-            shape.point(visual_.vertices, shape.closest(visual_.vertices, cage.col(v))) - cage.col(v);
-        cage.col(v) += to * std::min(1.0, 0.45 * voxels.spacing / std::max(to.norm(), 1e-300));
-      }
-    }
-    weights_ = map ? map(cage, g.triangles, visual_.vertices) : mvc_map(spec, cage, g.triangles, visual_.vertices);
-    need_hybrid(weights_.rows() == visual_.vertices.cols() && weights_.cols() == cage.cols(),
+    weights_ = map ? map(cage.rest, cage.triangles, visual_.vertices)
+                   : mvc_map(spec, cage.rest, cage.triangles, visual_.vertices);
+    need_hybrid(weights_.rows() == visual_.vertices.cols() && weights_.cols() == cage.rest.cols(),
                 "the visual map must have a row per visual vertex and a column per cage vertex");
   }
+  // What force_scale reads besides the gain: each surface element's
+  // S-Chain force at the gain's depths, pressed along the normal of the
+  // visual vertex nearest it.
+  const Eigen::Matrix3Xd normals = vertex_normals(visual_.vertices, visual_.triangles);
+  SChain chain(chains_.lattice(), spec.relax_rate, spec.limit_stiffness);
+  const std::size_t nd = gain_.depth.size();
+  chain_force_.assign(chains_.lattice().size() * nd, 0);
+  for (const int e : chains_.surface()) {
+    if (chains_.lattice().anchored[e]) continue;
+    const Eigen::Vector3d n = normals.col(nearest_vertex(visual_.vertices, chains_.lattice().rest(e)));
+    for (std::size_t j = 0; j < nd; ++j) chain_force_[e * nd + j] = chain_press(chain, e, n, gain_.depth[j]);
+  }
+  gain_elements_[0] = gain_point(spec, voxels, chains_, false).second;
+  gain_elements_[1] = spec.stiff_ratio == 1 ? gain_elements_[0] : gain_point(spec, voxels, chains_, true).second;
   columns_ = weights_.cast<float>();
   mesh_ = std::make_unique<MeshProxy>(visual_.triangles, int(visual_.vertices.cols()));
   surface_ = mesh_->grown(visual_.vertices, spec.tip_radius);
@@ -474,7 +797,8 @@ Touch Hybrid::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
   // (the offset, not how far the chains let the element go: a stiff side's
   // short ranges stop it against the anchors, and the rest is a wall).
   const bool stiff = chains_.lattice().material[e].stiffness > spec_.chain.stiffness;
-  Eigen::Vector3d force = gain_.at(offset.norm(), stiff) * chains_.force();
+  const double depth = offset.norm();
+  Eigen::Vector3d force = force_scale(e, depth, stiff) * chains_.force();
   const SurfacePoint at = contact_;  // where this tick's force acts
   if (!grab && force.dot(n) <= 0) {
     force.setZero();  // chains that do not push do not pull either
@@ -506,6 +830,26 @@ Touch Hybrid::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
   t.depth = std::max(0.0, -offset.dot(n));
   t.stiffness = t.depth > 1e-9 ? std::max(0.0, force.dot(n)) / t.depth : 0;
   return t;
+}
+
+double Hybrid::force_scale(int e, double depth, bool stiff) const {
+  const int side = stiff && !gain_.stiff.empty() ? 1 : 0;
+  // The S-Chain's steady force here, or, at an element it has none for
+  // (anchored), at the side's gain point.
+  const std::size_t nd = gain_.depth.size();
+  double chain = power_between(gain_.depth, &chain_force_[std::size_t(e) * nd], depth);
+  if (!(chain > 0)) chain = power_between(gain_.depth, &chain_force_[std::size_t(gain_elements_[side]) * nd], depth);
+  if (!(chain > 0)) return 1;
+  // The drawn surface's compliance at the proxy, from its face's vertices'.
+  double ratio = 1;
+  if (gain_.compliance.size() == std::size_t(visual_.vertices.cols())) {
+    const Eigen::Vector3i& face = mesh_->triangle(contact_.face);
+    double c = 0;
+    for (int k = 0; k < 3; ++k) c += contact_.bary[k] * gain_.compliance[face[k]];
+    const double ref = side ? gain_.stiff_compliance : gain_.soft_compliance;
+    if (c > 0 && ref > 0) ratio = std::clamp(ref / c, 1 / kPointSpread, kPointSpread);
+  }
+  return gain_.at(depth, stiff) * ratio / chain;
 }
 
 void Hybrid::couple() {

@@ -124,33 +124,56 @@ models::fem::Mesh hybrid_mesh(const HybridSpec& spec);
 
 // N: the force on a holder keeping behavior mass `mass` of `spec` at its
 // rest position plus `displacement` once the lattice has settled
-// (implicit Euler to rest): the behavior model's static answer to the
-// press the S-Chain renders, which force_vs_behavior compares with it.
+// (implicit Euler to rest): the behavior model's static answer to a press
+// of one of its masses.
 Eigen::Vector3d behavior_static_force(const HybridSpec& spec, int mass, const Eigen::Vector3d& displacement);
+// N, by depth: the behavior model's static answer to a press of the
+// surface drawn (issue 26 item 4): the force with which `spec`'s behavior
+// model, loaded at the point of its visual rest surface nearest `point`
+// as touch() loads a proxy there (along the surface's inward normal,
+// spread over the face's vertices and by their rows of the visual map over
+// the masses), sinks there by each of `depths` (m, > 0, increasing) once
+// settled (implicit Euler to rest), pressed deeper step by step. The force
+// felt is calibrated to it (force_gain), and force_vs_behavior compares
+// the two.
+std::vector<double> behavior_surface_force(const HybridSpec& spec, const Eigen::Vector3d& point,
+                                           const std::vector<double>& depths);
 
-// The felt force's gain over the press's depth (the HIP's distance from
-// the proxy; issue 26 item 4): the behavior model's static force over the
-// S-Chain's for the same press down at the top, at 21 depths from 2 % to
+// The force felt over the press's depth (the HIP's distance from the
+// proxy; issue 26 item 4): the behavior model's static force for a press
+// of its drawn surface (behavior_surface_force) at 21 depths from 2 % to
 // all of a quarter of the rest box's smallest side (0.5 to 25 mm for a 10
-// cm cube), on the soft side and, with a stiff_ratio, on the stiff side. An S-Chain moves more
-// chains the deeper it is pressed, and its force grows far faster than the
-// lattice's (bench hybrid, force_vs_behavior rows: ten times it at 25 mm
-// with the ranges fitted on 1 to 5 mm).
+// cm cube), at a gain point in the middle of the soft side's top and,
+// with a stiff_ratio, of the stiff side's: the middle of a top cell's face
+// beside the side's middle column, where a press spreads over four masses
+// as it does almost anywhere. An S-Chain moves more chains the deeper it
+// is pressed, and its force grows far faster than the lattice's (bench
+// hybrid, force_vs_behavior rows: ten times it at 25 mm with the ranges
+// fitted on 1 to 5 mm); touch() scales it to this (Hybrid::force_scale).
 struct ForceGain {
   std::vector<double> depth;        // m, increasing
-  std::vector<double> soft, stiff;  // behavior over S-Chain at each depth
-  // Linear between the samples, the end ones beyond them.
+  std::vector<double> soft, stiff;  // N, the behavior model's force at each depth
+  // m/N: the drawn surface's compliance at rest at each side's gain
+  // point, and at every visual rest vertex (empty for a lattice of over
+  // kMostMasses masses, whose stiffness is not factored).
+  double soft_compliance = 0, stiff_compliance = 0;
+  std::vector<double> compliance;
+  static constexpr int kMostMasses = 20000;
+  // N: the force at a depth, a power law between the samples (a straight
+  // line on log scales), proportional to the depth below the first and
+  // past the last.
   double at(double depth, bool stiff_side) const;
 };
 // Takes seconds: the behavior model settles at every depth, pressed in
-// turn (implicit Euler to rest), on each side.
+// turn (implicit Euler to rest), on each side; and its rest stiffness is
+// factored and solved for every visual vertex.
 ForceGain force_gain(const HybridSpec& spec);
 // The spec's fields force_gain reads, in a fixed order, after
 // kForceGainVersion (the shape's vertices and triangles last): a cache's key.
 std::vector<double> gain_inputs(const HybridSpec& spec);
 // Raised whenever force_gain computes differently from the same spec, so
 // that gains kept on disk by an older build are computed again.
-constexpr int kForceGainVersion = 2;
+constexpr int kForceGainVersion = 3;
 using GainSource = std::function<ForceGain(const HybridSpec&)>;
 
 // The visual map of mean value weights (truncated for mvc_sparse) from the
@@ -177,8 +200,8 @@ class Hybrid final : public Object {
   // back outside its tangent plane (or, with `grab`, until grab ends: then
   // it sticks and may pull). The S-Chain element nearest the proxy is moved
   // by the HIP's offset from the proxy; the chains' force times the force
-  // gain at that offset's length is the force on the stylus, kept inside
-  // the friction cone.
+  // scale at that offset's length there (force_scale) is the force on the
+  // stylus, kept inside the friction cone.
   Touch touch(double dt, const Eigen::Vector3d& hip, bool grab) override;
   double behavior_dt() const override { return spec_.behavior.dt; }
   // couple(): the behavior model's loads for its next step, the opposite of
@@ -206,6 +229,21 @@ class Hybrid final : public Object {
   const models::massspring::TriangleMesh& visual_rest() const { return visual_; }
   const Weights& map() const { return weights_; }
   const ForceGain& gain() const { return gain_; }
+  // What touch() multiplies the S-Chain's force by where the proxy is,
+  // pressed `depth` (m) into chain element e on the soft or stiff side:
+  // the force gain's force at that depth on that side, times how much
+  // stiffer the drawn surface is here than at the side's gain point (its
+  // compliance at rest, interpolated over the proxy's face from its
+  // vertices' (ForceGain::compliance), kept within [1 / kPointSpread,
+  // kPointSpread]; 1 where the gain has none for this object's vertices),
+  // over the S-Chain's steady force for that press of e (along the normal
+  // of the visual vertex nearest it; the side's gain element's for an
+  // anchored one). Once the chains have relaxed, the force felt is the
+  // behavior model's for a press of the surface drawn here (issue 26
+  // item 4): at the gain points its own, elsewhere as stiff as the
+  // surface is there at rest.
+  double force_scale(int e, double depth, bool stiff) const;
+  static constexpr double kPointSpread = 8;
   const std::vector<int>& cage_masses() const { return cage_; }  // masses the map reads, in its column order
   int simulated() const { return simulated_; }                   // masses the last behavior step integrated
   int substeps() const { return substeps_; }                     // substeps the last behavior step took
@@ -222,6 +260,8 @@ class Hybrid final : public Object {
   HybridSpec spec_;
   SChain chains_;
   ForceGain gain_;
+  std::vector<double> chain_force_;                        // N, by chain element and gain depth: force_scale's
+  int gain_elements_[2] = {-1, -1};                        // the soft and stiff sides' gain elements
   std::unique_ptr<models::massspring::Simulator> masses_;  // its lattice gives either model's nodes
   std::unique_ptr<models::fem::Corotational> fem_;         // BehaviorModel::fem
   std::unique_ptr<models::fem::Modal> modal_;              // BehaviorModel::modal

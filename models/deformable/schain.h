@@ -71,6 +71,7 @@ class SChain {
   const Eigen::Vector3d& displacement(int e) const { return u_[e]; }
   const std::vector<int>& moved() const { return moved_; }  // elements displaced from rest
   const ChainLattice& lattice() const { return lat_; }
+  const std::vector<int>& surface() const { return surface_; }  // the surface elements (below)
 
   // The surface element (one present with a neighbour missing or on the
   // grid's border) nearest to p (world frame), or -1 if p is farther than

@@ -24,10 +24,11 @@
 //   rel_error is the RMS distance of the mapped
 //   visual vertices from the deformation's own values over the RMS
 //   displacement; ms is the whole map, ratio to trilinear in the same run.
-// force_vs_behavior: the force felt (S-Chain times the force gain) against
-//   the behavior model's static force at the same depth, 0.5 to 25 mm at
-//   the top centre: the largest relative difference, and the largest ratio
-//   of the S-Chain alone to the behavior model.
+// force_vs_behavior: the force felt against the behavior model's static
+//   force for a press of its drawn surface (behavior_surface_force) as
+//   deep, 0.5 to 25 mm, at each side's gain point of a 10 cm cube with a
+//   stiff side: the largest relative difference, and the largest ratio of
+//   the S-Chain alone to the behavior model.
 // press: the behavior model's static force at the top centre every
 //   `step_mm` down to half the cube's size, with its volume floors and
 //   without (volume 0): how deep it rises at every step before the first
@@ -345,25 +346,45 @@ std::vector<Row> visual_rows(bool quick) {
   return rows;
 }
 
-Row force_row() {
+// The force felt against the behavior model's for a press of the surface
+// drawn, on each side of the 10 cm cube with a stiff side 4 times
+// stiffer, at its gain point (models/deformable/hybrid.h, ForceGain):
+// pressed from 1 mm above to each depth over 0.1 s and held 0.2 s, let go
+// for 1 s between presses.
+std::vector<Row> force_rows() {
   HybridSpec s;
-  s.map = VisualMap::trilinear;
-  const int e = top_centre(s.elements);
-  const ForceGain gain = force_gain(s);
-  double felt = 0, alone = 0;
-  for (const double mm : {0.5, 1.0, 2.0, 3.5, 5.0, 7.0, 9.0, 11.0, 13.0, 15.0, 17.0, 19.0, 21.0, 23.0, 25.0}) {
-    const double depth = mm * 1e-3;
-    SChain chain(hybrid_chains(s), s.relax_rate, s.limit_stiffness);
-    const Eigen::Vector3d rest = chain.lattice().rest(e);
-    for (int k = 0; k < 300; ++k)
-      chain.tick(1e-3, e, rest - Eigen::Vector3d(0, 0, depth * std::min(1.0, (k + 1) / 100.0)));
-    const double behavior = behavior_static_force(s, e, Eigen::Vector3d(0, 0, -depth)).z();
-    alone = std::max(alone, chain.force().z() / behavior);
-    felt = std::max(felt, std::abs(gain.at(depth, false) * chain.force().z() / behavior - 1));
+  s.map = VisualMap::trilinear, s.stiff_ratio = 4;
+  const int n = s.elements;
+  std::vector<double> depths;
+  for (const double mm : {0.5, 1.0, 2.0, 3.5, 5.0, 7.0, 9.0, 11.0, 13.0, 15.0, 17.0, 19.0, 21.0, 23.0, 25.0})
+    depths.push_back(mm * 1e-3);
+  std::vector<Row> rows;
+  for (const bool stiff : {false, true}) {
+    Hybrid h(s);
+    const int e = (stiff ? n - 1 - n / 4 : n / 4) + n * (n / 2 + n * (n - 1));
+    const Eigen::Vector3d r = h.haptic().lattice().rest(e) + 0.5 * s.size / (n - 1) * Eigen::Vector3d(1, 1, 0);
+    double z = r.z() + 0.001;
+    while (!h.touch(1e-3, Eigen::Vector3d(r.x(), r.y(), z), false).in_contact) h.advance(), z -= 1e-5;
+    const double surface = h.proxy().z();
+    const std::vector<double> behavior = behavior_surface_force(s, h.proxy(), depths);
+    double felt = 0, alone = 0;
+    for (std::size_t j = 0; j < depths.size(); ++j) {
+      for (int k = 0; k < 1000; ++k) h.touch(1e-3, Eigen::Vector3d(r.x(), r.y(), surface + 0.002), false), h.advance();
+      Touch t;
+      for (int k = 0; k < 300; ++k) {
+        t = h.touch(
+            1e-3, Eigen::Vector3d(r.x(), r.y(), surface + 0.001 - (0.001 + depths[j]) * std::min(1.0, (k + 1) / 100.0)),
+            false);
+        h.advance();
+      }
+      felt = std::max(felt, std::abs(t.force.z() / behavior[j] - 1));
+      alone = std::max(alone, h.haptic().force().z() / behavior[j]);
+    }
+    rows.push_back({"force_vs_behavior",
+                    {{"side", std::string(stiff ? "stiff" : "soft")}, {"depth_mm", std::string("0.5..25")}},
+                    {{"rel_error", felt}, {"chain_alone_max_ratio", alone}}});
   }
-  return {"force_vs_behavior",
-          {{"depth_mm", std::string("0.5..25")}},
-          {{"rel_error", felt}, {"chain_alone_max_ratio", alone}}};
+  return rows;
 }
 
 Row press_row(BehaviorModel model, double volume, double step) {
@@ -436,7 +457,7 @@ std::vector<Row> hybrid_rows(const Context& c) {
   progress("hybrid visual maps on a known deformation");
   for (Row& r : visual_rows(c.quick)) rows.push_back(std::move(r));
   progress("hybrid S-Chain force against the behavior model's static force");
-  rows.push_back(force_row());
+  for (Row& r : force_rows()) rows.push_back(std::move(r));
   for (const double volume : {HybridSpec{}.volume, 0.0}) {
     progress(std::string("hybrid behavior model pressed to half its size, volume floors ") +
              (volume > 0 ? "on" : "off"));
@@ -493,8 +514,9 @@ Suite hybrid_suite() {
        "smallest, the median and the largest. The cube at its centre and three points a quarter of its size off; the "
        "organ every 2 mm along its length 2 mm off its middle line, and two points 4 mm to the other side."},
       {"force_vs_behavior",
-       "The force felt (the S-Chain's times the force gain, models/deformable/hybrid.h) against the behavior "
-       "model's static force at the same depth, 0.5 to 25 mm at the top centre: the largest relative difference "
+       "The force felt (the S-Chain's times Hybrid::force_scale, models/deformable/hybrid.h) against the behavior "
+       "model's static force for a press of its drawn surface as deep (behavior_surface_force), 0.5 to 25 mm, at "
+       "each side's gain point of the 10 cm cube with a stiff side (stiff_ratio 4): the largest relative difference "
        "(rel_error), and the largest ratio of the S-Chain alone to the behavior model."},
       {"press",
        "The behavior model's static force at the top centre of the 10 cm cube, every `step_mm` down to half its "

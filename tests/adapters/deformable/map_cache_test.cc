@@ -85,6 +85,9 @@ TEST_F(MapCache, TheForceGainIsKeptTooAndReadFromItsFile) {
   const ForceGain first = gain_cache(dir.string())(spec);
   EXPECT_EQ(first.depth, computed.depth);
   EXPECT_EQ(first.soft, computed.soft);
+  EXPECT_EQ(first.soft_compliance, computed.soft_compliance);
+  EXPECT_EQ(first.compliance, computed.compliance);
+  EXPECT_EQ(first.compliance.size(), std::size_t(hybrid_visual(spec).vertices.cols()));
   ASSERT_EQ(files().size(), 1u);
   const fs::path file = files().front();
   HybridSpec stiff = spec;

@@ -166,23 +166,28 @@ TEST(Hybrid, ForceFeltAgreesWithTheBehaviorModelToAQuarterOfItsSize) {
   HybridSpec s = quick();
   s.stiff_ratio = 4;
   const int n = s.elements;
+  const std::vector<double> depths{0.0005, 0.00075, 0.0015, 0.0035, 0.007, 0.011, 0.015, 0.019, 0.023, 0.025};
   for (const int dx : {n / 4 - n / 2, n - 1 - n / 4 - n / 2}) {  // the middle of each half's top
-    for (const double depth : {0.0005, 0.00075, 0.0015, 0.0035, 0.007, 0.011, 0.015, 0.019, 0.023, 0.025}) {
-      Hybrid h(s);
-      // Down to the drawn surface, which the rounding puts below the
-      // lattice's top near the edges, then `depth` under it.
-      const Eigen::Vector3d r = h.haptic().lattice().rest(top(s, dx));
-      Touch t;
-      double z = r.z() + 0.001;
-      while (!(t = h.touch(1e-3, Eigen::Vector3d(r.x(), r.y(), z), false)).in_contact) h.advance(), z -= 1e-5;
-      const double surface = h.proxy().z();
+    Hybrid h(s);
+    // Down to the drawn surface in the middle of a top cell's face beside
+    // the element (where a press is felt as most presses are: spread over
+    // four masses), then `depth` under it, and back up and let go.
+    const Eigen::Vector3d r = h.haptic().lattice().rest(top(s, dx)) + 0.5 * s.size / (n - 1) * Eigen::Vector3d(1, 1, 0);
+    Touch t;
+    double z = r.z() + 0.001;
+    while (!(t = h.touch(1e-3, Eigen::Vector3d(r.x(), r.y(), z), false)).in_contact) h.advance(), z -= 1e-5;
+    const double surface = h.proxy().z();
+    const std::vector<double> behavior = behavior_surface_force(s, h.proxy(), depths);
+    for (std::size_t j = 0; j < depths.size(); ++j) {
+      for (int k = 0; k < 1000; ++k) h.touch(1e-3, Eigen::Vector3d(r.x(), r.y(), surface + 0.002), false), h.advance();
       for (int k = 0; k < 300; ++k) {
-        t = h.touch(1e-3, Eigen::Vector3d(r.x(), r.y(), surface - depth * std::min(1.0, (k + 1) / 100.0)), false);
+        t = h.touch(
+            1e-3, Eigen::Vector3d(r.x(), r.y(), surface + 0.001 - (0.001 + depths[j]) * std::min(1.0, (k + 1) / 100.0)),
+            false);
         h.advance();
       }
-      const double behavior = behavior_static_force(s, top(s, dx), Eigen::Vector3d(0, 0, -depth)).z();
-      EXPECT_NEAR(t.force.z() / behavior, 1, 0.15) << (dx > 0 ? "stiff" : "soft") << " side, depth " << depth
-                                                   << ": felt " << t.force.z() << " N, behavior " << behavior;
+      EXPECT_NEAR(t.force.z() / behavior[j], 1, 0.15) << (dx > 0 ? "stiff" : "soft") << " side, depth " << depths[j]
+                                                      << ": felt " << t.force.z() << " N, behavior " << behavior[j];
     }
   }
 }
@@ -205,7 +210,7 @@ TEST(Hybrid, AFemBehaviorModelIsFeltAsItsStaticForceAndComesBack) {
     t = h.touch(1e-3, Eigen::Vector3d(r.x(), r.y(), surface - depth * std::min(1.0, (k + 1) / 100.0)), false);
     h.advance();
   }
-  const double fem = behavior_static_force(s, top(s), Eigen::Vector3d(0, 0, -depth)).z();
+  const double fem = behavior_surface_force(s, h.proxy(), {depth})[0];
   EXPECT_NEAR(t.force.z() / fem, 1, 0.15) << "felt " << t.force.z() << " N, FEM " << fem << " N";
   EXPECT_LT(h.state().x.col(top(s)).z(), h.behavior().lattice().rest.col(top(s)).z() - 0.5 * depth);
   for (int k = 0; k < 2000; ++k) h.touch(1e-3, s.centre + Eigen::Vector3d(0, 0, 0.2), false), h.advance();
@@ -233,7 +238,7 @@ TEST(Hybrid, AModalBehaviorModelIsFeltAsItsStaticForceAndComesBack) {
     t = h.touch(1e-3, Eigen::Vector3d(r.x(), r.y(), surface - depth * std::min(1.0, (k + 1) / 100.0)), false);
     h.advance();
   }
-  const double modal = behavior_static_force(s, top(s), Eigen::Vector3d(0, 0, -depth)).z();
+  const double modal = behavior_surface_force(s, h.proxy(), {depth})[0];
   EXPECT_NEAR(t.force.z() / modal, 1, 0.15) << "felt " << t.force.z() << " N, modal " << modal << " N";
   EXPECT_LT(h.state().x.col(top(s)).z(), h.behavior().lattice().rest.col(top(s)).z() - 0.5 * depth);
   for (int k = 0; k < 2000; ++k) h.touch(1e-3, s.centre + Eigen::Vector3d(0, 0, 0.2), false), h.advance();
@@ -397,6 +402,40 @@ TEST(HybridShape, AnOrganIsTouchedOnItsDrawnSurfaceAndComesBack) {
   }
 }
 
+// What is seen follows what is felt all over an organ (issue 26 item 4):
+// the loaf with a stiff lobe at +x, as the default scene's organ has,
+// pressed from above 4 mm past its drawn surface and held at points along
+// it and off its middle, on both sides, at its middle and near its ends.
+// Under the force felt, the drawn surface under the stylus sinks along its
+// normal by half the stylus's depth or more, and by no more than one and
+// a half times it, at every point: the force is as stiff as the surface
+// drawn there, not as the S-Chain (without force_scale it sinks by 0.2 to
+// 0.7 of the depth at these points).
+TEST(HybridShape, WhatIsSeenFollowsWhatIsFeltAllOverAnOrgan) {
+  HybridSpec s = loaf_spec();
+  s.stiff_ratio = 4;
+  for (const Eigen::Vector2d& p :
+       {Eigen::Vector2d(-0.015, 0), Eigen::Vector2d(-0.01, 0.006), Eigen::Vector2d(-0.005, 0),
+        Eigen::Vector2d(0, -0.006), Eigen::Vector2d(0, 0), Eigen::Vector2d(0.005, 0.006), Eigen::Vector2d(0.01, 0),
+        Eigen::Vector2d(0.015, 0)}) {
+    Hybrid h(s);
+    const Eigen::Vector2d at = s.centre.head<2>() + p;
+    const Eigen::Vector3d above(at.x(), at.y(), height_over(h.visual_rest().vertices, h.triangles(), at) + 0.002);
+    Touch t;
+    for (int k = 0; k < 1500; ++k) {
+      t = h.touch(1e-3, above - Eigen::Vector3d(0, 0, 0.006 * std::min(1.0, (k + 1) / 300.0)), false);
+      h.advance();
+    }
+    ASSERT_TRUE(t.in_contact) << "at " << p.transpose();
+    const Eigen::Vector3i& f = h.triangles()[h.contact().face];
+    double sunk = 0;
+    for (int k = 0; k < 3; ++k)
+      sunk += h.contact().bary[k] * t.normal.dot(h.visual_rest().vertices.col(f[k]) - h.surface().col(f[k]));
+    EXPECT_GT(sunk, 0.5 * t.depth) << "at " << p.transpose() << ": " << t.force.norm() << " N";
+    EXPECT_LT(sunk, 1.5 * t.depth) << "at " << p.transpose() << ": " << t.force.norm() << " N";
+  }
+}
+
 TEST(HybridShape, AShapeWithoutAFloorOrOpenIsRefusedByName) {
   HybridSpec s = loaf_spec();
   // An octahedron standing on a vertex: no cell of its lowest layer is inside.
@@ -469,25 +508,28 @@ TEST(Hybrid, EnteringBetweenNodesIsFeltAlongTheNormal) {
 TEST(Hybrid, TheForceFeltIsTheLoadTakenStartsWithoutAKickAndHoldsSteady) {
   const HybridSpec s = organ();
   Hybrid h(s);
-  const double k_max = s.chain.stiffness * s.stiff_ratio;
   const Eigen::Vector3d above = s.centre + Eigen::Vector3d(0.006, 0.002, 0.5 * s.size + 0.002);
   Eigen::Vector3d last = above;
-  bool touched = false;
+  int touched = 0;
+  double first = 0;  // N/m: the force over the tick's step at the first contact
   double sum = 0, square = 0;
   for (int k = 0; k <= 1500; ++k) {
     const Eigen::Vector3d hip = above - Eigen::Vector3d(0, 0, std::min(0.006, 4e-5 * k));
     const Touch t = h.touch(1e-3, hip, false);
     const Eigen::Vector3d taken = h.tick_load().rowwise().sum();
     EXPECT_LE((taken + t.force).norm(), 1e-12 * (1 + t.force.norm())) << "tick " << k;
-    if (t.in_contact && !touched) {
-      EXPECT_LE(t.force.norm(), k_max * (hip - last).norm() * (1 + 1e-9));
+    // No kick: the first contact's force over its step is no stiffer than
+    // the press is ten ticks on.
+    if (t.in_contact && touched == 0) first = t.force.norm() / (hip - last).norm();
+    if (t.in_contact && touched == 10) {
+      EXPECT_LE(first, 1.5 * t.stiffness) << "first " << first << " N/m";
     }
-    touched = touched || t.in_contact;
+    touched += t.in_contact;
     if (k > 1000) sum += t.force.norm(), square += t.force.squaredNorm();
     last = hip;
     h.advance();
   }
-  EXPECT_TRUE(touched);
+  EXPECT_GT(touched, 10);
   const double mean = sum / 500, spread = std::sqrt(std::max(0.0, square / 500 - mean * mean));
   EXPECT_GT(mean, 0.05);
   EXPECT_LT(spread, 0.02 * mean);
