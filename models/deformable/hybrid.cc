@@ -192,44 +192,57 @@ models::fem::Mesh hybrid_mesh(const HybridSpec& s) {
 
 namespace {
 
-// The behavior model of a spec with one mass held where it is put and the
-// rest settled to rest around it: implicit Euler at 1 s steps, each close
-// to a Newton step towards rest (CG to `tolerance`). The modal model's is
-// its kept modes' stiffness at the mass, in one step.
-class Held {
- public:
-  Held(const HybridSpec& spec, int mass, double tolerance) : mass_(mass) {
+// The behavior model of a spec stepped towards rest: implicit Euler at 1
+// s steps, each close to a Newton step (CG to `tolerance`); the springs,
+// or for the FEM and the modal model, the corotational FEM.
+struct Settling {
+  Settling(const HybridSpec& spec, double tolerance) {
     if (spec.behavior_model != BehaviorModel::springs) {
       models::fem::Options o;
       o.dt = 1, o.tolerance = tolerance;
-      fem_ = std::make_unique<models::fem::Corotational>(hybrid_mesh(spec), spec.fem, o);
-      state_ = models::fem::rest_state(fem_->mesh());
-      if (spec.behavior_model == BehaviorModel::modal) {
-        need_hybrid(mass >= 0 && mass < state_.x.cols(), "no mass " + std::to_string(mass));
-        stiffness_ = models::fem::Modal(*fem_, models::fem::ModalOptions{spec.behavior.dt, spec.modes})
-                         .compliance(mass)
-                         .inverse();
-        modal_ = true;
-      }
+      fem = std::make_unique<models::fem::Corotational>(hybrid_mesh(spec), spec.fem, o);
+      state = models::fem::rest_state(fem->mesh());
     } else {
       models::massspring::Options o;
       o.integrator = models::massspring::Integrator::implicit_euler;
       o.dt = 1, o.tolerance = tolerance;
-      springs_ = std::make_unique<models::massspring::Simulator>(hybrid_masses(spec), o);
-      state_ = models::massspring::rest_state(springs_->lattice());
+      springs = std::make_unique<models::massspring::Simulator>(hybrid_masses(spec), o);
+      state = models::massspring::rest_state(springs->lattice());
     }
-    need_hybrid(mass >= 0 && mass < state_.x.cols(), "no mass " + std::to_string(mass));
-    fem_ ? fem_->hold(mass, true) : springs_->hold(mass, true);
   }
-  const Eigen::Matrix3Xd& rest() const { return fem_ ? fem_->mesh().rest : springs_->lattice().rest; }
+  const Eigen::Matrix3Xd& rest() const { return fem ? fem->mesh().rest : springs->lattice().rest; }
+  void step(const std::vector<models::massspring::PointForce>& loads) {
+    fem ? void(fem->step(state, loads)) : void(springs->step(state, loads));
+  }
+  std::unique_ptr<models::massspring::Simulator> springs;
+  std::unique_ptr<models::fem::Corotational> fem;
+  models::massspring::State state;
+};
+
+// The behavior model of a spec with one mass held where it is put and the
+// rest settled to rest around it. The modal model's is its kept modes'
+// stiffness at the mass, in one step.
+class Held {
+ public:
+  Held(const HybridSpec& spec, int mass, double tolerance) : mass_(mass), model_(spec, tolerance) {
+    need_hybrid(mass >= 0 && mass < model_.state.x.cols(), "no mass " + std::to_string(mass));
+    if (spec.behavior_model == BehaviorModel::modal) {
+      stiffness_ = models::fem::Modal(*model_.fem, models::fem::ModalOptions{spec.behavior.dt, spec.modes})
+                       .compliance(mass)
+                       .inverse();
+      modal_ = true;
+    }
+    model_.fem ? model_.fem->hold(mass, true) : model_.springs->hold(mass, true);
+  }
+  const Eigen::Matrix3Xd& rest() const { return model_.rest(); }
   // Puts the held mass at x and settles the rest until the holder's force
   // changes by under `change` of itself; returns that force (N).
   Eigen::Vector3d settle(const Eigen::Vector3d& x, double change) {
     if (modal_) return -stiffness_ * (x - rest().col(mass_));
-    state_.x.col(mass_) = x;
+    model_.state.x.col(mass_) = x;
     Eigen::Vector3d last = Eigen::Vector3d::Constant(1e300);
     for (int k = 0; k < 1000; ++k) {
-      fem_ ? void(fem_->step(state_, {})) : void(springs_->step(state_, {}));
+      model_.step({});
       const Eigen::Vector3d f = force();
       if ((f - last).norm() <= change * f.norm()) break;
       last = f;
@@ -238,11 +251,11 @@ class Held {
   }
 
  private:
-  Eigen::Vector3d force() const { return fem_ ? fem_->force_on(mass_, state_) : springs_->spring_force(mass_, state_); }
+  Eigen::Vector3d force() const {
+    return model_.fem ? model_.fem->force_on(mass_, model_.state) : model_.springs->spring_force(mass_, model_.state);
+  }
   int mass_;
-  std::unique_ptr<models::massspring::Simulator> springs_;
-  std::unique_ptr<models::fem::Corotational> fem_;
-  models::massspring::State state_;
+  Settling model_;
   bool modal_ = false;
   Eigen::Matrix3d stiffness_;  // N/m, the modal model's at the mass
 };
@@ -492,28 +505,12 @@ double extrapolated(const std::vector<double>& depths, const std::vector<double>
 
 // The behavior model of a spec loaded at one point of its drawn surface
 // as touch() loads it: a force along -n spread over masses by a map row,
-// settled by implicit Euler at 1 s steps (each close to a Newton step
-// towards rest; CG to `tolerance`), from where the last load left it.
-// (The modal model is linear: its answer is its compliance's.)
+// settled (Settling) from where the last load left it. (The modal model
+// is linear: its answer is its compliance's.)
 class Pressed {
  public:
   Pressed(const HybridSpec& spec, std::vector<std::pair<int, double>> row, const Eigen::Vector3d& n, double tolerance)
-      : row_(std::move(row)), n_(n) {
-    if (spec.behavior_model != BehaviorModel::springs) {
-      models::fem::Options o;
-      o.dt = 1, o.tolerance = tolerance;
-      fem_ = std::make_unique<models::fem::Corotational>(hybrid_mesh(spec), spec.fem, o);
-      state_ = models::fem::rest_state(fem_->mesh());
-      rest_ = fem_->mesh().rest;
-    } else {
-      models::massspring::Options o;
-      o.integrator = models::massspring::Integrator::implicit_euler;
-      o.dt = 1, o.tolerance = tolerance;
-      springs_ = std::make_unique<models::massspring::Simulator>(hybrid_masses(spec), o);
-      state_ = models::massspring::rest_state(springs_->lattice());
-      rest_ = springs_->lattice().rest;
-    }
-  }
+      : row_(std::move(row)), n_(n), model_(spec, tolerance) {}
   // m: how far the point sinks along -n under `force` (N), settled until
   // that changes by under `change` of itself a step.
   double sink(double force, double change) {
@@ -521,7 +518,7 @@ class Pressed {
     for (const auto& [m, w] : row_) loads.push_back({m, -force * w * n_});
     double last = 1e300;
     for (int k = 0; k < 1000; ++k) {
-      fem_ ? void(fem_->step(state_, loads)) : void(springs_->step(state_, loads));
+      model_.step(loads);
       const double s = at();
       if (std::abs(s - last) <= change * std::abs(s)) break;
       last = s;
@@ -552,15 +549,12 @@ class Pressed {
  private:
   double at() const {
     double s = 0;
-    for (const auto& [m, w] : row_) s -= w * n_.dot(state_.x.col(m) - rest_.col(m));
+    for (const auto& [m, w] : row_) s -= w * n_.dot(model_.state.x.col(m) - model_.rest().col(m));
     return s;
   }
   std::vector<std::pair<int, double>> row_;
   Eigen::Vector3d n_;
-  std::unique_ptr<models::massspring::Simulator> springs_;
-  std::unique_ptr<models::fem::Corotational> fem_;
-  models::massspring::State state_;
-  Eigen::Matrix3Xd rest_;
+  Settling model_;
 };
 
 // The point of the drawn surface nearest `point` (rest, world), loaded as
