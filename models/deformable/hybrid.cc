@@ -736,6 +736,7 @@ Hybrid::Hybrid(const HybridSpec& spec, const MapSource& map, const GainSource& g
   }
   gain_elements_[0] = gain_point(spec, voxels, chains_, false).second;
   gain_elements_[1] = spec.stiff_ratio == 1 ? gain_elements_[0] : gain_point(spec, voxels, chains_, true).second;
+  need_hybrid(gain_elements_[0] >= 0 && gain_elements_[1] >= 0, "no chain element at a gain point");
   columns_ = weights_.cast<float>();
   mesh_ = std::make_unique<MeshProxy>(visual_.triangles, int(visual_.vertices.cols()));
   surface_ = mesh_->grown(visual_.vertices, spec.tip_radius);
