@@ -171,8 +171,9 @@ TEST(Hybrid, TheBehaviorModelDoesNotSnapThroughPastOneCell) {
 // The force felt agrees with the shape seen (issue 26 item 4): pressed
 // from 0.5 mm to a quarter of its size below the drawn surface, on the
 // soft and the stiff side, the hybrid's force is within 15 % of the
-// behavior model's static force at that depth. Its S-Chain alone, fitted on
-// 1 to 5 mm, pushes ten times harder at 25 mm (bench hybrid,
+// behavior model's static force for a press of its drawn surface at that
+// depth (behavior_surface_force). Its S-Chain alone, fitted on 1 to 5 mm,
+// pushes 8.7 to 15.7 times harder by 25 mm (bench hybrid,
 // force_vs_behavior).
 TEST(Hybrid, ForceFeltAgreesWithTheBehaviorModelToAQuarterOfItsSize) {
   HybridSpec s = quick();
