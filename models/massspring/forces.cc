@@ -79,10 +79,10 @@ Eigen::Vector3d momentum(const Lattice& l, const Eigen::Matrix3Xd& v) {
   return p;
 }
 
-Eigen::SparseMatrix<double> implicit_matrix(const Lattice& l, const std::vector<int>& springs,
-                                            const std::vector<int>& quartets, const std::vector<int>& masses,
-                                            const std::vector<int>& slot, const Eigen::Matrix3Xd& x, double h) {
-  std::vector<Eigen::Triplet<double>> t;
+void implicit_triplets(const Lattice& l, const std::vector<int>& springs, const std::vector<int>& quartets,
+                       const std::vector<int>& masses, const std::vector<int>& slot, const Eigen::Matrix3Xd& x,
+                       double h, std::vector<Eigen::Triplet<double>>& t) {
+  t.clear();
   t.reserve(masses.size() * 3 + springs.size() * 36 + quartets.size() * 144);
   auto block = [&t](int a, int b, const Eigen::Matrix3d& m) {
     for (int r = 0; r < 3; ++r)
@@ -110,6 +110,13 @@ Eigen::SparseMatrix<double> implicit_matrix(const Lattice& l, const std::vector<
       for (int q = 0; q < 4; ++q)
         if (corner[p] >= 0 && corner[q] >= 0) block(corner[p], corner[q], w * g[p] * g[q].transpose());
   }
+}
+
+Eigen::SparseMatrix<double> implicit_matrix(const Lattice& l, const std::vector<int>& springs,
+                                            const std::vector<int>& quartets, const std::vector<int>& masses,
+                                            const std::vector<int>& slot, const Eigen::Matrix3Xd& x, double h) {
+  std::vector<Eigen::Triplet<double>> t;
+  implicit_triplets(l, springs, quartets, masses, slot, x, h, t);
   const int n = int(masses.size()) * 3;
   Eigen::SparseMatrix<double> a(n, n);
   a.setFromTriplets(t.begin(), t.end());

@@ -82,6 +82,13 @@ Eigen::Vector3d momentum(const Lattice& lattice, const Eigen::Matrix3Xd& v);
 Eigen::SparseMatrix<double> implicit_matrix(const Lattice& lattice, const std::vector<int>& springs,
                                             const std::vector<int>& quartets, const std::vector<int>& masses,
                                             const std::vector<int>& slot, const Eigen::Matrix3Xd& x, double h);
+// The same as (row, column, value) triplets, duplicates to be summed, in
+// `out` (cleared first). The same springs, quartets and masses give the
+// same rows and columns in the same order whatever x and h, so a caller
+// may keep the matrix and refill its values in place.
+void implicit_triplets(const Lattice& lattice, const std::vector<int>& springs, const std::vector<int>& quartets,
+                       const std::vector<int>& masses, const std::vector<int>& slot, const Eigen::Matrix3Xd& x,
+                       double h, std::vector<Eigen::Triplet<double>>& out);
 
 // K v for the same K (3 x n result), used on the right-hand side.
 void add_stiffness_times(const Lattice& lattice, const std::vector<int>& springs, const std::vector<int>& quartets,

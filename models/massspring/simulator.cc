@@ -118,9 +118,15 @@ struct Simulator::Impl {
   Eigen::Matrix3Xd quartet_force;   // N, per quartet, on its corners i, j, k, l (4 columns each)
   Eigen::VectorXd quartet_elastic;  // J, half of each quartet's energy
 
-  // implicit_euler
+  // implicit_euler. Its matrix is refilled in place while the simulated
+  // masses, springs and quartets are those it was built for: building it
+  // from triplets every step cost as much as solving it.
   Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper> cg;
   Eigen::VectorXd dv;
+  std::vector<Eigen::Triplet<double>> triplets;
+  Eigen::SparseMatrix<double> step_a;
+  std::vector<int> step_value;                                // step_a's value index of each triplet
+  std::vector<int> step_masses, step_springs, step_quartets;  // what step_a was built for
 
   // local_global: the factorization and the masses it was made for.
   Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> llt;
@@ -554,6 +560,28 @@ struct Simulator::Impl {
 
   // ---- implicit Euler, linearised
 
+  const Eigen::SparseMatrix<double>& step_matrix(const Eigen::Matrix3Xd& x, double h) {
+    implicit_triplets(lat, springs, quartets, masses, slot, x, h, triplets);
+    if (masses != step_masses || springs != step_springs || quartets != step_quartets) {
+      const int n = 3 * int(masses.size());
+      step_a.resize(n, n);
+      step_a.setFromTriplets(triplets.begin(), triplets.end());
+      step_value.resize(triplets.size());
+      const int* outer = step_a.outerIndexPtr();
+      const int* inner = step_a.innerIndexPtr();
+      for (std::size_t k = 0; k < triplets.size(); ++k) {
+        const int c = int(triplets[k].col());
+        step_value[k] = int(std::lower_bound(inner + outer[c], inner + outer[c + 1], int(triplets[k].row())) - inner);
+      }
+      step_masses = masses, step_springs = springs, step_quartets = quartets;
+      return step_a;
+    }
+    double* value = step_a.valuePtr();
+    std::fill(value, value + step_a.nonZeros(), 0.0);
+    for (std::size_t k = 0; k < triplets.size(); ++k) value[step_value[k]] += triplets[k].value();
+    return step_a;
+  }
+
   int implicit_euler(State& s, double h) {
     const int m = int(masses.size());
     for (const int i : masses) f.col(i).setZero();
@@ -561,7 +589,7 @@ struct Simulator::Impl {
     add_stiffness_times(lat, springs, quartets, s.x, s.v, -h, f);
     Eigen::VectorXd b(3 * m);
     for (int k = 0; k < m; ++k) b.segment<3>(3 * k) = h * f.col(masses[k]);
-    const Eigen::SparseMatrix<double> A = implicit_matrix(lat, springs, quartets, masses, slot, s.x, h);
+    const Eigen::SparseMatrix<double>& A = step_matrix(s.x, h);
     cg.setTolerance(opt.tolerance);
     cg.setMaxIterations(std::max(100, 3 * m));
     cg.compute(A);
