@@ -148,7 +148,7 @@ void write_gain(const fs::path& path, const models::deformable::ForceGain& g) {
 }  // namespace
 
 models::deformable::GainSource gain_cache(const std::string& dir) {
-  return [dir](const models::deformable::HybridSpec& s) {
+  return [dir](const models::deformable::HybridSpec& s, const models::deformable::Weights& map) {
     Hash h;
     for (const double v : models::deformable::gain_inputs(s)) h.value(v);
     char name[40];
@@ -156,7 +156,7 @@ models::deformable::GainSource gain_cache(const std::string& dir) {
     const fs::path path = fs::path(dir) / name;
     models::deformable::ForceGain g = read_gain(path);
     if (!g.depth.empty()) return g;
-    g = models::deformable::force_gain(s);
+    g = models::deformable::force_gain(s, map);
     std::error_code ec;
     fs::create_directories(dir, ec);
     write_gain(path, g);

@@ -166,15 +166,17 @@ struct ForceGain {
 };
 // Takes seconds: the behavior model settles at every depth, pressed in
 // turn (implicit Euler to rest), on each side; and its rest stiffness is
-// factored and solved for every visual vertex.
-ForceGain force_gain(const HybridSpec& spec);
+// factored and solved for every visual vertex. `map`: the spec's visual
+// map where the caller has it (what Hybrid::map() holds: a row per visual
+// vertex, a column per cage mass); empty, it is computed.
+ForceGain force_gain(const HybridSpec& spec, const Weights& map = {});
 // The spec's fields force_gain reads, in a fixed order, after
 // kForceGainVersion (the shape's vertices and triangles last): a cache's key.
 std::vector<double> gain_inputs(const HybridSpec& spec);
 // Raised whenever force_gain computes differently from the same spec, so
 // that gains kept on disk by an older build are computed again.
 constexpr int kForceGainVersion = 3;
-using GainSource = std::function<ForceGain(const HybridSpec&)>;
+using GainSource = std::function<ForceGain(const HybridSpec&, const Weights& map)>;
 
 // The visual map of mean value weights (truncated for mvc_sparse) from the
 // cage's rest positions (3 x n), its triangles and the visual rest points

@@ -96,7 +96,7 @@ Row pipeline_row(const std::string& scale, BehaviorModel model) {
   // scales the force, not what a tick costs.
   GainSource gain;
   if (scale == "100x")
-    gain = [](const HybridSpec& big) {
+    gain = [](const HybridSpec& big, const Weights&) {
       HybridSpec seed = big;
       seed.elements = HybridSpec{}.elements;
       return force_gain(seed);

@@ -82,7 +82,7 @@ TEST_F(MapCache, OtherInputsMissAndADamagedFileIsComputedAgain) {
 // spec or a damaged file computes it again.
 TEST_F(MapCache, TheForceGainIsKeptTooAndReadFromItsFile) {
   const ForceGain computed = force_gain(spec);
-  const ForceGain first = gain_cache(dir.string())(spec);
+  const ForceGain first = gain_cache(dir.string())(spec, {});
   EXPECT_EQ(first.depth, computed.depth);
   EXPECT_EQ(first.soft, computed.soft);
   EXPECT_EQ(first.soft_compliance, computed.soft_compliance);
@@ -92,12 +92,12 @@ TEST_F(MapCache, TheForceGainIsKeptTooAndReadFromItsFile) {
   const fs::path file = files().front();
   HybridSpec stiff = spec;
   stiff.stiff_ratio = 3;
-  const ForceGain other = gain_cache((dir / "other").string())(stiff);
+  const ForceGain other = gain_cache((dir / "other").string())(stiff, {});
   ASSERT_FALSE(other.stiff.empty());
   fs::copy_file(fs::directory_iterator(dir / "other")->path(), file, fs::copy_options::overwrite_existing);
-  EXPECT_EQ(gain_cache(dir.string())(spec).stiff, other.stiff);
+  EXPECT_EQ(gain_cache(dir.string())(spec, {}).stiff, other.stiff);
   std::ofstream(file, std::ios::binary | std::ios::trunc) << "not a gain";
-  EXPECT_EQ(gain_cache(dir.string())(spec).soft, computed.soft);
+  EXPECT_EQ(gain_cache(dir.string())(spec, {}).soft, computed.soft);
   EXPECT_EQ(Hybrid(spec, {}, gain_cache(dir.string())).gain().soft, computed.soft);
 }
 

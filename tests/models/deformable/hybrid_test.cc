@@ -28,7 +28,7 @@ double signed_volume(const Eigen::Matrix3Xd& x, const std::vector<Eigen::Vector3
 // behavior model dozens of times, which takes seconds, a minute under the
 // sanitizers.
 GainSource any_gain() {
-  return [](const HybridSpec&) {
+  return [](const HybridSpec&, const Weights&) {
     ForceGain g;
     g.depth = {1e-3, 1e-2}, g.soft = {0.1, 1}, g.soft_compliance = 1e-2;
     return g;
