@@ -168,7 +168,12 @@ int run(const Options& options) {
     }
     Item item;
     item.name = o.name;
+    const std::int64_t t0 = mono_ns();
     item.model = adapters::deformable::make_object(o, cache);
+    if (o.model == "hybrid") {
+      std::printf("%s: built in %.1f s\n", o.name.c_str(), (mono_ns() - t0) * 1e-9);
+      std::fflush(stdout);
+    }
     items.push_back(std::move(item));
   }
 

@@ -7,8 +7,10 @@ export HCOSIM_SERVICE_PATH=$2
 DOMAIN=$3
 export HCOSIM_DOMAIN=$DOMAIN
 # One folder of hybrid objects' visual maps and force gains for every test
-# of this build (HCOSIM_CACHE, services/deformable): the first test to need
-# one computes it, the others read it, as a user's second run does.
+# of this build (HCOSIM_CACHE, services/deformable): integration.hybrid_cache,
+# a fixture the others require, fills it with the default and press scenes'
+# objects; the others read those, as a user's second run does (and compute
+# the maps of objects placed elsewhere).
 export HCOSIM_CACHE=${HCOSIM_CACHE:-$(dirname "$BIN")/test-cache}
 WORK=$(mktemp -d /tmp/hcosim_it.XXXXXX)
 PIDS=()
