@@ -17,6 +17,9 @@
 // seen_vs_felt: the default scene's cube and organ pressed from above 4 mm
 //   past their drawn surface at a few points: how far the drawn surface
 //   sank under the proxy over the stylus's depth.
+// stiffening: at the same points, the behavior model's force for a 4 mm
+//   press of its drawn surface over 40 times its force for 0.1 mm, and the
+//   same at the force gain's points: why some points sink less.
 // visual_map: each map on a known smooth deformation (a press dent and a
 //   bend) applied to the cage, for the rounded box (`shape` box: 602 and
 //   5402 vertices) and an organ-like smooth ellipsoid inscribed in the cube
@@ -174,6 +177,34 @@ Row seen_row(const std::string& body, const HybridSpec& s, const std::vector<Eig
           {{"min_ratio", *std::min_element(ratio.begin(), ratio.end())},
            {"median_ratio", quantile(ratio, 0.5)},
            {"max_ratio", *std::max_element(ratio.begin(), ratio.end())}}};
+}
+
+// How much the behavior model stiffens under a 4 mm press of its drawn
+// surface at each of the same points (behavior_surface_force: the force
+// for 4 mm over 40 times the force for 0.1 mm; 1 if it were linear), and
+// at the force gain's points. The force felt is the gain point's for the
+// depth times the compliance at rest there over here, so a point that
+// stiffens more than the gain point sinks by less than the stylus's depth,
+// and one that stiffens less by more.
+Row stiffening_row(const std::string& body, const HybridSpec& s, const std::vector<Eigen::Vector2d>& points) {
+  const Hybrid h(s);
+  const auto stiffening = [](double shallow, double deep) { return (deep / 4e-3) / (shallow / 1e-4); };
+  std::vector<double> at_points;
+  for (const Eigen::Vector2d& p : points) {
+    const Eigen::Vector2d at = s.centre.head<2>() + p;
+    const double top = height_over(h.visual_rest().vertices, h.triangles(), at);
+    const std::vector<double> f = behavior_surface_force(s, Eigen::Vector3d(at.x(), at.y(), top), {1e-4, 4e-3});
+    at_points.push_back(stiffening(f[0], f[1]));
+  }
+  const ForceGain& g = h.gain();
+  Row r{"stiffening",
+        {{"body", body}, {"points", double(points.size())}},
+        {{"min", *std::min_element(at_points.begin(), at_points.end())},
+         {"median", quantile(at_points, 0.5)},
+         {"max", *std::max_element(at_points.begin(), at_points.end())},
+         {"gain_soft", stiffening(g.at(1e-4, false), g.at(4e-3, false))}}};
+  if (!g.stiff.empty()) r.metrics.push_back({"gain_stiff", stiffening(g.at(1e-4, true), g.at(4e-3, true))});
+  return r;
 }
 
 // The hybrid cube's behavior models against a continuum (issue 26 item 3):
@@ -446,12 +477,15 @@ std::vector<Row> hybrid_rows(const Context& c) {
     HybridSpec cube;  // deploy/default.yaml's
     cube.size = 0.03, cube.centre = Eigen::Vector3d(0, 0, 0.015);
     const double q = 0.25 * cube.size;
-    rows.push_back(seen_row("cube", cube, {{0, 0}, {q, 0}, {-q, q}, {0, -q}}));
+    const std::vector<Eigen::Vector2d> square = {{0, 0}, {q, 0}, {-q, q}, {0, -q}};
+    rows.push_back(seen_row("cube", cube, square));
+    rows.push_back(stiffening_row("cube", cube, square));
     // The organ every 2 mm along its length, from its soft right lobe
     // across the middle to its stiff left lobe, and off that line.
     std::vector<Eigen::Vector2d> line = {{-0.006, 0.004}, {0.006, 0.004}};
     for (int k = -8; k <= 8; ++k) line.push_back({0.002 * k, -0.002});
     rows.push_back(seen_row("organ", organ_spec(), line));
+    rows.push_back(stiffening_row("organ", organ_spec(), line));
   }
   for (Row& r : against_fem_rows(c.quick)) rows.push_back(std::move(r));
   progress("hybrid visual maps on a known deformation");
@@ -513,6 +547,12 @@ Suite hybrid_suite() {
        "surface follows the stylus; less: the stylus is drawn inside the object; more: the surface sinks past it); the "
        "smallest, the median and the largest. The cube at its centre and three points a quarter of its size off; the "
        "organ every 2 mm along its length 2 mm off its middle line, and two points 4 mm to the other side."},
+      {"stiffening",
+       "Why some of those points sink less: at each, the behavior model's static force for a press of its drawn "
+       "surface 4 mm deep over 40 times its force for 0.1 mm (behavior_surface_force; 1 for a linear model, less "
+       "where cells give way, more where they stiffen); the smallest, the median and the largest, and the same at "
+       "the force gain's points (gain_soft, gain_stiff). The force felt is the gain point's for the depth scaled by "
+       "the compliance at rest, so a point's seen_vs_felt ratio is about the gain point's stiffening over its own."},
       {"force_vs_behavior",
        "The force felt (the S-Chain's times Hybrid::force_scale, models/deformable/hybrid.h) against the behavior "
        "model's static force for a press of its drawn surface as deep (behavior_surface_force), 0.5 to 25 mm, at "
