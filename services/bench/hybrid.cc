@@ -552,7 +552,8 @@ Suite hybrid_suite() {
        "surface 4 mm deep over 40 times its force for 0.1 mm (behavior_surface_force; 1 for a linear model, less "
        "where cells give way, more where they stiffen); the smallest, the median and the largest, and the same at "
        "the force gain's points (gain_soft, gain_stiff). The force felt is the gain point's for the depth scaled by "
-       "the compliance at rest, so a point's seen_vs_felt ratio is about the gain point's stiffening over its own."},
+       "the compliance at rest: at a point that stiffens more than the gain point it is less than the behavior model's "
+       "force for the depth (by about the ratio of the two), and the drawn surface sinks by less than the stylus."},
       {"force_vs_behavior",
        "The force felt (the S-Chain's times Hybrid::force_scale, models/deformable/hybrid.h) against the behavior "
        "model's static force for a press of its drawn surface as deep (behavior_surface_force), 0.5 to 25 mm, at "
