@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 
 #include <Eigen/SparseCholesky>
 
@@ -333,8 +334,8 @@ int gain_element(const HybridSpec& spec, const models::massspring::Voxels& voxel
 // middle of a top cell face beside the side's gain element (half a cell
 // along +x and +y from its node), where a press spreads over four masses
 // as it does almost anywhere, not onto one.
-std::pair<Eigen::Vector3d, int> gain_point(const HybridSpec& spec, const models::massspring::Voxels& voxels,
-                                           const SChain& chains, bool stiff) {
+std::pair<Eigen::Vector3d, int> find_gain_point(const HybridSpec& spec, const models::massspring::Voxels& voxels,
+                                                const SChain& chains, bool stiff) {
   const Eigen::Vector3d p =
       chains.lattice().rest(gain_element(spec, voxels, stiff)) + 0.5 * voxels.spacing * Eigen::Vector3d(1, 1, 0);
   return {p, chains.nearest_surface(p)};
@@ -670,7 +671,7 @@ ForceGain force_gain(const HybridSpec& spec, const Weights& map) {
   const SChain chain(hybrid_chains(spec), spec.relax_rate, spec.limit_stiffness);
   auto side = [&](bool stiff, double* compliance) {
     const SurfaceLoad l =
-        surface_load(spec, voxels, lat, modal.get(), visual, cage, gain_point(spec, voxels, chain, stiff).first);
+        surface_load(spec, voxels, lat, modal.get(), visual, cage, find_gain_point(spec, voxels, chain, stiff).first);
     *compliance = l.compliance;
     return surface_forces(spec, modal.get(), l, gain.depth);
   };
@@ -757,8 +758,9 @@ Hybrid::Hybrid(const HybridSpec& spec, const MapSource& map, const GainSource& g
     const Eigen::Vector3d n = normals.col(nearest_vertex(visual_.vertices, chains_.lattice().rest(e)));
     for (std::size_t j = 0; j < nd; ++j) chain_force_[e * nd + j] = chain_press(chain, e, n, gain_.depth[j]);
   }
-  gain_elements_[0] = gain_point(spec, voxels, chains_, false).second;
-  gain_elements_[1] = spec.stiff_ratio == 1 ? gain_elements_[0] : gain_point(spec, voxels, chains_, true).second;
+  for (const bool stiff : {false, true})
+    std::tie(gain_points_[stiff], gain_elements_[stiff]) =
+        find_gain_point(spec, voxels, chains_, stiff && spec.stiff_ratio != 1);
   need_hybrid(gain_elements_[0] >= 0 && gain_elements_[1] >= 0, "no chain element at a gain point");
   columns_ = weights_.cast<float>();
   mesh_ = std::make_unique<MeshProxy>(visual_.triangles, int(visual_.vertices.cols()));

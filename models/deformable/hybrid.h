@@ -175,7 +175,7 @@ ForceGain force_gain(const HybridSpec& spec, const Weights& map = {});
 std::vector<double> gain_inputs(const HybridSpec& spec);
 // Raised whenever force_gain computes differently from the same spec, so
 // that gains kept on disk by an older build are computed again.
-constexpr int kForceGainVersion = 3;
+constexpr int kForceGainVersion = 4;
 using GainSource = std::function<ForceGain(const HybridSpec&, const Weights& map)>;
 
 // The visual map of mean value weights (truncated for mvc_sparse) from the
@@ -231,6 +231,9 @@ class Hybrid final : public Object {
   const models::massspring::TriangleMesh& visual_rest() const { return visual_; }
   const Weights& map() const { return weights_; }
   const ForceGain& gain() const { return gain_; }
+  // A side's gain point (rest, world; ForceGain); the soft side's for both
+  // without a stiff_ratio.
+  const Eigen::Vector3d& gain_point(bool stiff) const { return gain_points_[stiff]; }
   // What touch() multiplies the S-Chain's force by where the proxy is,
   // pressed `depth` (m) into chain element e on the soft or stiff side:
   // the force gain's force at that depth on that side, times how much
@@ -264,6 +267,7 @@ class Hybrid final : public Object {
   ForceGain gain_;
   std::vector<double> chain_force_;                        // N, by chain element and gain depth: force_scale's
   int gain_elements_[2] = {-1, -1};                        // the soft and stiff sides' gain elements
+  Eigen::Vector3d gain_points_[2];                         // and their gain points
   std::unique_ptr<models::massspring::Simulator> masses_;  // its lattice gives either model's nodes
   std::unique_ptr<models::fem::Corotational> fem_;         // BehaviorModel::fem
   std::unique_ptr<models::fem::Modal> modal_;              // BehaviorModel::modal

@@ -385,15 +385,13 @@ std::vector<Row> visual_rows(bool quick) {
 std::vector<Row> force_rows() {
   HybridSpec s;
   s.map = VisualMap::trilinear, s.stiff_ratio = 4;
-  const int n = s.elements;
   std::vector<double> depths;
   for (const double mm : {0.5, 1.0, 2.0, 3.5, 5.0, 7.0, 9.0, 11.0, 13.0, 15.0, 17.0, 19.0, 21.0, 23.0, 25.0})
     depths.push_back(mm * 1e-3);
   std::vector<Row> rows;
   for (const bool stiff : {false, true}) {
     Hybrid h(s);
-    const int e = (stiff ? n - 1 - n / 4 : n / 4) + n * (n / 2 + n * (n - 1));
-    const Eigen::Vector3d r = h.haptic().lattice().rest(e) + 0.5 * s.size / (n - 1) * Eigen::Vector3d(1, 1, 0);
+    const Eigen::Vector3d r = h.gain_point(stiff);
     double z = r.z() + 0.001;
     while (!h.touch(1e-3, Eigen::Vector3d(r.x(), r.y(), z), false).in_contact) h.advance(), z -= 1e-5;
     const double surface = h.proxy().z();

@@ -178,14 +178,12 @@ TEST(Hybrid, TheBehaviorModelDoesNotSnapThroughPastOneCell) {
 TEST(Hybrid, ForceFeltAgreesWithTheBehaviorModelToAQuarterOfItsSize) {
   HybridSpec s = quick();
   s.stiff_ratio = 4;
-  const int n = s.elements;
   const std::vector<double> depths{0.0005, 0.00075, 0.0015, 0.0035, 0.007, 0.011, 0.015, 0.019, 0.023, 0.025};
-  for (const int dx : {n / 4 - n / 2, n - 1 - n / 4 - n / 2}) {  // the middle of each half's top
+  for (const bool stiff : {false, true}) {
     Hybrid h(s);
-    // Down to the drawn surface in the middle of a top cell's face beside
-    // the element (where a press is felt as most presses are: spread over
-    // four masses), then `depth` under it, and back up and let go.
-    const Eigen::Vector3d r = h.haptic().lattice().rest(top(s, dx)) + 0.5 * s.size / (n - 1) * Eigen::Vector3d(1, 1, 0);
+    // Down to the drawn surface at the side's gain point, then `depth`
+    // under it, and back up and let go.
+    const Eigen::Vector3d r = h.gain_point(stiff);
     Touch t;
     double z = r.z() + 0.001;
     while (!(t = h.touch(1e-3, Eigen::Vector3d(r.x(), r.y(), z), false)).in_contact) h.advance(), z -= 1e-5;
@@ -199,7 +197,7 @@ TEST(Hybrid, ForceFeltAgreesWithTheBehaviorModelToAQuarterOfItsSize) {
             false);
         h.advance();
       }
-      EXPECT_NEAR(t.force.z() / behavior[j], 1, 0.15) << (dx > 0 ? "stiff" : "soft") << " side, depth " << depths[j]
+      EXPECT_NEAR(t.force.z() / behavior[j], 1, 0.15) << (stiff ? "stiff" : "soft") << " side, depth " << depths[j]
                                                       << ": felt " << t.force.z() << " N, behavior " << behavior[j];
     }
   }
