@@ -58,7 +58,7 @@
 # the same contact on a drawn surface) and the dense MVC and trilinear
 # visual maps (24 and 18 s: mvc_sparse runs the same cage motions), and
 # the loaf pressed at eight points to see the surface follow the force
-# felt (HybridShape.WhatIsSeenFollowsWhatIsFeltAllOverAnOrgan: 31 s in
+# felt (HybridShape.WhatIsSeenFollowsWhatIsFeltAllOverAnOrgan: 12.6 s in
 # build/; AnOrganIsTouchedOnItsDrawnSurfaceAndComesBack runs the same
 # touch and scale on the same loaf).
 set -euo pipefail

@@ -332,8 +332,8 @@ int gain_element(const HybridSpec& spec, const models::massspring::Voxels& voxel
 
 // A side's gain point, and the chain element touch() takes there: the
 // middle of a top cell face beside the side's gain element (half a cell
-// along +x and +y from its node), where a press spreads over four masses
-// as it does almost anywhere, not onto one.
+// along +x and +y from its node), where a press spreads over four masses,
+// not onto one (under which the lattice stiffens fastest with depth).
 std::pair<Eigen::Vector3d, int> find_gain_point(const HybridSpec& spec, const models::massspring::Voxels& voxels,
                                                 const SChain& chains, bool stiff) {
   const Eigen::Vector3d p =

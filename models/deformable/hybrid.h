@@ -146,7 +146,8 @@ std::vector<double> behavior_surface_force(const HybridSpec& spec, const Eigen::
 // cm cube), at a gain point in the middle of the soft side's top and,
 // with a stiff_ratio, of the stiff side's: the middle of a top cell's face
 // beside the side's middle column, where a press spreads over four masses
-// as it does almost anywhere. An S-Chain moves more chains the deeper it
+// (bench hybrid's stiffening rows say how its stiffening under depth
+// compares with other points'). An S-Chain moves more chains the deeper it
 // is pressed, and its force grows far faster than the lattice's (bench
 // hybrid, force_vs_behavior rows: ten times it at 25 mm with the ranges
 // fitted on 1 to 5 mm); touch() scales it to this (Hybrid::force_scale).
@@ -166,7 +167,7 @@ struct ForceGain {
 };
 // Takes seconds: the behavior model settles at every depth, pressed in
 // turn (implicit Euler to rest), on each side; and its rest stiffness is
-// factored and solved for every visual vertex. `map`: the spec's visual
+// factored and forward-substituted for every visual vertex. `map`: the spec's visual
 // map where the caller has it (what Hybrid::map() holds: a row per visual
 // vertex, a column per cage mass); empty, it is computed.
 ForceGain force_gain(const HybridSpec& spec, const Weights& map = {});
