@@ -54,14 +54,14 @@ start() {
 }
 
 # stop_echoes PID...: once a deployment has ended, lets `hcosim echo`
-# processes started with --count 0 and no --timeout print what they have
-# taken, then stops each with SIGINT (a clean end for echo); fails if one
-# does not end cleanly.
+# processes started with --count 0 and no --timeout (or `hcosim record` with
+# --duration 0) write what they have taken, then stops each with SIGINT (a
+# clean end for both); fails if one does not end cleanly.
 stop_echoes() {
   local p
   sleep 0.5
   for p in "$@"; do kill -INT "$p" 2>/dev/null; done
-  for p in "$@"; do wait "$p" || fail "an echo exited $? on SIGINT"; done
+  for p in "$@"; do wait "$p" || fail "an echo or recorder exited $? on SIGINT"; done
 }
 
 # probe NAME RATE ROLE [extra yaml params]: a test service on $DOMAIN in real time

@@ -238,6 +238,10 @@ awk -v p="$(felt)" 'BEGIN { exit !(p > 0.05) }' || fail "slow link: the device f
 got=$(wc -l <"$WORK/slow_meshes.jsonl")
 shed=$(sed -nE 's/.*, ([0-9]+) shed \(link busy, network bulk_mbit\)$/\1/p' "$WORK/slow_sim/logs/objects.log")
 [ "${shed:-0}" -gt 0 ] || fail "slow link: no mesh frame dropped for the link: $(tail -n 3 "$WORK/slow_sim/logs/objects.log")"
-[ "$got" -ge 10 ] || fail "slow link: only $got meshes crossed it"
+# 11 to 13 meshes cross in a run alone, 9 did in CI's full parallel run of
+# 61bd21a (acknowledgements come later on a loaded machine, so more frames
+# find the last one unacknowledged): half of a run alone shows the link
+# still carries them.
+[ "$got" -ge 6 ] || fail "slow link: only $got meshes crossed it"
 echo "network_test: slow link (10 Mbit/s, bulk_mbit 2): $in_tick of ticks in time, round trip p50 $rtt us, $got meshes crossed, $shed frames dropped and counted"
 echo "network_test: ok"
