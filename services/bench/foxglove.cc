@@ -5,10 +5,11 @@
 //   and a client, services/foxglove/client.h, subscribed to every channel
 //   it advertises, in the bench's process): the device's round trip and
 //   in-tick share from its closing report, and with the bridge its
-//   process's CPU time (/proc) over the measured window and what the
-//   client received. Runs alternate, so that a drift of the machine's load
-//   falls on both.
-// bridge: over the pairs, the bridge's median CPU share of one core and
+//   process's CPU time (/proc) over a window before the client connects
+//   (what receiving every topic costs) and over the measured window after,
+//   and what the client received. Runs alternate, so that a drift of the
+//   machine's load falls on both.
+// bridge: over the pairs, the bridge's median CPU shares of one core and
 //   the median round-trip p99 with the bridge against without it.
 #include <signal.h>
 #include <sys/wait.h>
@@ -52,15 +53,26 @@ std::string find(const std::string& text, const std::string& pattern, const std:
 }
 
 struct Run {
-  double rtt_p50_us = NAN, rtt_p99_us = NAN, in_tick = NAN, cpu_share = NAN, seconds = 0;
+  double rtt_p50_us = NAN, rtt_p99_us = NAN, in_tick = NAN, cpu_share = NAN, cpu_share_no_client = NAN, seconds = 0;
   foxglove::ClientCounts client;
 };
 
-Run run(const Context& c, const fs::path& dir, bool bridge, double seconds) {
+// The bridge's CPU share of one core over `seconds` from now.
+double cpu_share_over(pid_t pid, double seconds) {
+  const double cpu0 = cpu_s(pid);
+  const std::int64_t t0 = runtime::mono_ns();
+  std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+  return (cpu_s(pid) - cpu0) / ((runtime::mono_ns() - t0) * 1e-9);
+}
+
+// `idle` s before the client connects (both runs wait as long, so that
+// their round trips cover the same stretch of the tour), then `seconds`
+// measured with it.
+Run run(const Context& c, const fs::path& dir, bool bridge, double idle, double seconds) {
   fs::create_directories(dir);
   const fs::path report = dir / "omni.json", log = dir / "up.log";
   fs::remove(report);
-  const fs::path file = default_deployment(dir, c.domain, seconds + 10, seconds + 4, report);
+  const fs::path file = default_deployment(dir, c.domain, idle + seconds + 10, idle + seconds + 5, report);
   if (bridge) {
     YAML::Node d = YAML::LoadFile(file.string());
     YAML::Node fox;
@@ -73,18 +85,23 @@ Run run(const Context& c, const fs::path& dir, bool bridge, double seconds) {
   Run r;
   std::unique_ptr<foxglove::Client> client;
   pid_t fox = 0;
+  std::this_thread::sleep_for(std::chrono::seconds(1));  // every reader matched
   if (bridge) {
     const int port = std::stoi(
         find(read_all(dir / "out" / "logs" / "fox.log"), R"(serving ws://127\.0\.0\.1:(\d+))", "port in fox.log"));
     fox = pid_t(std::stoi(find(read_all(log), R"(started fox +pid (\d+))", "bridge pid in " + log.string())));
+    r.cpu_share_no_client = cpu_share_over(fox, idle);
     client = std::make_unique<foxglove::Client>("127.0.0.1", port);
-    std::this_thread::sleep_for(std::chrono::seconds(1));  // connected and subscribed
+  } else {
+    std::this_thread::sleep_for(std::chrono::duration<double>(idle));
   }
-  const double cpu0 = fox ? cpu_s(fox) : 0;
+  std::this_thread::sleep_for(std::chrono::seconds(1));  // connected and subscribed
   const std::int64_t t0 = runtime::mono_ns();
-  std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+  if (fox)
+    r.cpu_share = cpu_share_over(fox, seconds);
+  else
+    std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
   r.seconds = (runtime::mono_ns() - t0) * 1e-9;
-  if (fox) r.cpu_share = (cpu_s(fox) - cpu0) / r.seconds;
   if (client) {
     r.client = client->counts();
     client.reset();
@@ -103,15 +120,18 @@ Run run(const Context& c, const fs::path& dir, bool bridge, double seconds) {
 
 std::vector<Row> foxglove_rows(const Context& c) {
   const int pairs = c.quick ? 1 : 3;
-  const double seconds = c.quick ? 20 : 30;
+  const double idle = c.quick ? 5 : 10, seconds = c.quick ? 20 : 30;
   std::vector<Row> rows;
-  std::vector<double> cpu, p99_on, p99_off, tick_on, tick_off, mb;
+  std::vector<double> cpu, cpu_idle, p99_on, p99_off, tick_on, tick_off, mb;
   for (int k = 0; k < pairs; ++k) {
     for (const bool bridge : {false, true}) {
-      progress("foxglove pair " + std::to_string(k + 1) + " of " + std::to_string(pairs) + ": the default scene " +
-               (bridge ? "with the bridge and a client subscribed to everything" : "without the bridge") + ", " +
-               std::to_string(int(seconds)) + " s");
-      const Run r = run(c, c.out / ("foxglove_" + std::to_string(k) + (bridge ? "_on" : "_off")), bridge, seconds);
+      progress(
+          "foxglove pair " + std::to_string(k + 1) + " of " + std::to_string(pairs) + ": the default scene " +
+          (bridge ? "with the bridge, " + std::to_string(int(idle)) + " s alone, then " + std::to_string(int(seconds)) +
+                        " s with a client subscribed to everything"
+                  : "without the bridge, " + std::to_string(int(idle)) + " + " + std::to_string(int(seconds)) + " s"));
+      const Run r =
+          run(c, c.out / ("foxglove_" + std::to_string(k) + (bridge ? "_on" : "_off")), bridge, idle, seconds);
       const auto rate = [&](const std::string& topic) {
         const auto it = r.client.per_topic.find(topic);
         return it == r.client.per_topic.end() ? 0.0 : double(it->second) / r.seconds;
@@ -122,6 +142,7 @@ std::vector<Row> foxglove_rows(const Context& c) {
       if (bridge) {
         const double mb_s = double(r.client.bytes) / 1e6 / r.seconds;
         row.metrics.insert(row.metrics.end(), {{"cpu_share", r.cpu_share},
+                                               {"cpu_share_no_client", r.cpu_share_no_client},
                                                {"channels", double(r.client.channels)},
                                                {"client_mb_per_s", mb_s},
                                                {"client_messages_per_s", double(r.client.messages) / r.seconds},
@@ -129,7 +150,8 @@ std::vector<Row> foxglove_rows(const Context& c) {
                                                {"organ_scene_per_s", rate("scene/organ")},
                                                {"images_per_s", rate("image/cam")},
                                                {"statuses", double(r.client.statuses)}});
-        cpu.push_back(r.cpu_share), p99_on.push_back(r.rtt_p99_us), tick_on.push_back(r.in_tick), mb.push_back(mb_s);
+        cpu.push_back(r.cpu_share), cpu_idle.push_back(r.cpu_share_no_client);
+        p99_on.push_back(r.rtt_p99_us), tick_on.push_back(r.in_tick), mb.push_back(mb_s);
       } else {
         p99_off.push_back(r.rtt_p99_us), tick_off.push_back(r.in_tick);
       }
@@ -139,6 +161,7 @@ std::vector<Row> foxglove_rows(const Context& c) {
   rows.push_back({"bridge",
                   {{"pairs", double(pairs)}, {"seconds", seconds}},
                   {{"cpu_share", median(cpu)},
+                   {"cpu_share_no_client", median(cpu_idle)},
                    {"client_mb_per_s", median(mb)},
                    {"rtt_p99_us", median(p99_on)},
                    {"rtt_p99_us_without", median(p99_off)},
@@ -159,11 +182,14 @@ Suite foxglove_suite() {
       {"run",
        "deploy/default.yaml's scene and services in real time through hcosim up, without and with the bridge (a "
        "foxglove service, and a client in the bench's process subscribed to every channel it advertises), in turn: "
-       "the device's round trip and in-tick share over the run; with the bridge, its process's CPU time over the "
-       "measured window (/proc, a share of one core) and what the client received a second."},
+       "the device's round trip and in-tick share over the run; with the bridge, its process's CPU time (/proc, a "
+       "share of one core) over the measured window with the client (cpu_share) and over a window before the "
+       "client connects (cpu_share_no_client: receiving and checking every topic, serving no one), and what the "
+       "client received a second."},
       {"bridge",
-       "Over the pairs: the bridge's median CPU share and the client's MB/s, the median round-trip p99 with the "
-       "bridge against without it (p99_change = with / without - 1), and the median in-tick shares."}};
+       "Over the pairs: the bridge's median CPU shares with and without the client and the client's MB/s, the "
+       "median round-trip p99 with the bridge against without it (p99_change = with / without - 1), and the median "
+       "in-tick shares."}};
   s.goals = {
       {"the bridge at most 10% of one core at the default scene, a client subscribed to everything", "bridge",
        "cpu_share", 0.10},
