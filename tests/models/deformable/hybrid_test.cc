@@ -168,13 +168,17 @@ TEST(Hybrid, TheBehaviorModelDoesNotSnapThroughPastOneCell) {
   EXPECT_LT(behavior_static_force(s, top(s), 0.014 * down).z(), behavior_static_force(s, top(s), 0.012 * down).z());
 }
 
-// The force felt agrees with the shape seen (issue 26 item 4): pressed
-// from 0.5 mm to a quarter of its size below the drawn surface, on the
-// soft and the stiff side, the hybrid's force is within 15 % of the
-// behavior model's static force for a press of its drawn surface at that
-// depth (behavior_surface_force). Its S-Chain alone, fitted on 1 to 5 mm,
-// pushes 8.7 to 15.7 times harder by 25 mm (bench hybrid,
-// force_vs_behavior).
+// The force felt agrees with the shape seen where it is calibrated (issue
+// 26 item 4 at each side's gain point only): pressed from 0.5 mm to a
+// quarter of its size below the drawn surface there, the hybrid's force is
+// within 15 % of the behavior model's static force for a press of its
+// drawn surface at that depth (behavior_surface_force, settled afresh).
+// What this checks is the path from calibration to hand: the S-Chain's
+// relaxation, the scale between the gain's depths, the contact landing on
+// the point. Elsewhere the two differ by up to 2.7 times on the organ
+// (bench hybrid's stiffening rows; docs/deformable.md), which no test here
+// passes. The S-Chain alone, fitted on 1 to 5 mm, pushes 8.7 to 15.7 times
+// harder by 25 mm (bench hybrid, force_vs_behavior).
 TEST(Hybrid, ForceFeltAgreesWithTheBehaviorModelToAQuarterOfItsSize) {
   HybridSpec s = quick();
   s.stiff_ratio = 4;
