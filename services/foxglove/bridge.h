@@ -59,6 +59,18 @@ class Bridge {
   void take(T& s, std::uint32_t raw);
   std::uint32_t scene_channel(const adapters::scene::ChannelOf& c);
   void draw();  // on the server's socket thread
+  // After a take on a receiving thread of shared memory: once it has been
+  // awake kAwakeNs since it last rested, it rests kRestNs, and what
+  // arrives meanwhile waits in the port's queue (1,024 deep, deploy/qos.xml)
+  // to be taken in one wake-up. Fast DDS wakes that thread for every
+  // sample, about 1,600 times a second at the default scene, and on a
+  // virtual machine the wake-ups cost more than the samples' work; the
+  // clients are sent to every 10 ms anyway (docs/PERFORMANCE.md, "The live
+  // Foxglove bridge"). Never on UDP's threads (runtime::receives_udp), nor
+  // on the thread of a writer in this process (runtime::writing), on which
+  // Fast DDS hands its samples to the bridge's readers.
+  void rest();
+  static constexpr std::int64_t kRestNs = 5'000'000, kAwakeNs = 1'000'000;
 
   Server& server_;
   adapters::scene::Builder builder_;  // draw()'s, but channel()
@@ -72,6 +84,8 @@ class Bridge {
   std::map<std::uint32_t, std::pair<Draw, std::uint64_t>> pending_;  // by channel: its latest sample, and its time
 
   std::atomic<std::uint64_t> samples_{0}, drawn_{0}, skipped_{0}, unmatched_{0}, newest_ns_{0}, told_ns_{0};
+  std::atomic<bool> rests_{false};            // made, with shared memory: rest() may rest
+  std::atomic<std::int64_t> rested_ns_{0};    // when the last rest ended (mono)
   std::vector<std::function<void()>> stops_;  // each reader's, owning it
 };
 

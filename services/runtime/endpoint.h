@@ -100,6 +100,14 @@ struct Matches : eprosima::fastdds::dds::DataWriterListener {
   std::vector<eprosima::fastrtps::rtps::InstanceHandle_t> readers;
 };
 
+namespace detail {
+inline thread_local int writes_running = 0;  // writing()
+}  // namespace detail
+
+// Whether this thread is inside a Writer's write: Fast DDS hands a sample
+// to a reader in the same process on the writer's thread, inside write.
+inline bool writing() { return detail::writes_running > 0; }
+
 // Writes samples of T on TopicOf<T>::name with a named QoS profile.
 template <class T>
 class Writer {
@@ -138,7 +146,13 @@ class Writer {
   Writer& operator=(const Writer&) = delete;
 
   // False if Fast DDS refused the sample (for example a full reliable history).
-  bool write(T& sample) { return writer_->write(&sample); }
+  bool write(T& sample) {
+    struct Running {
+      Running() { ++detail::writes_running; }
+      ~Running() { --detail::writes_running; }
+    } running;
+    return writer_->write(&sample);
+  }
 
   // Blocks until every matched reliable reader acknowledged what was
   // written, or `timeout` passes; true if acknowledged. Call before exiting

@@ -9,6 +9,12 @@ namespace hcosim::services::runtime {
 using eprosima::fastrtps::rtps::LocatorSelector;
 using eprosima::fastrtps::rtps::LocatorSelectorEntry;
 
+namespace {
+thread_local bool udp_receiver = false;  // receives_udp()
+}  // namespace
+
+bool receives_udp() { return udp_receiver; }
+
 void UdpBesideShm::select_locators(LocatorSelector& selector) const {
   // Fast DDS keeps a remote shared-memory locator only when it is this
   // host's and this participant has shared memory too (ProxyDataFilters),
@@ -40,6 +46,7 @@ void UdpBesideShm::receive(eprosima::fastdds::rtps::TransportReceiverInterface* 
                            const eprosima::fastrtps::rtps::octet* buffer, uint32_t size,
                            const eprosima::fastrtps::rtps::Locator_t& local,
                            const eprosima::fastrtps::rtps::Locator_t& remote) {
+  udp_receiver = true;
   next->OnDataReceived(buffer, size, local, remote);
 }
 

@@ -42,6 +42,11 @@ class UdpBesideShm : public eprosima::fastdds::rtps::ChainingTransport {
                const eprosima::fastrtps::rtps::Locator_t& remote) override;
 };
 
+// Whether the calling thread is one of a UdpBesideShm's receiving
+// threads (it has passed a datagram on): one that must not linger in a
+// listener, as its socket's kernel buffer holds a few hundred kB.
+bool receives_udp();
+
 // The descriptor of a UdpBesideShm over `udp`.
 struct UdpBesideShmDescriptor : public eprosima::fastdds::rtps::ChainingTransportDescriptor {
   explicit UdpBesideShmDescriptor(std::shared_ptr<eprosima::fastdds::rtps::UDPv4TransportDescriptor> udp)

@@ -10,7 +10,9 @@
 // what arrived. --stall: subscribes to every channel and then stops
 // reading its socket (a client that hangs), printing what it saw until then.
 // --finite TOPIC: subscribes to TOPIC alone and fails on any sample with a
-// number that is not finite (the bridge refuses NaN from DDS).
+// number that is not finite (the bridge refuses NaN from DDS); with a
+// `seq` field, prints the first and last seq it received (`seq`), so that
+// the caller can tell how many were lost between them.
 import wsProtocol from "@foxglove/ws-protocol";
 import { parseIDL } from "@foxglove/omgidl-parser";
 import { MessageReader } from "@foxglove/omgidl-serialization";
@@ -35,6 +37,7 @@ let times = 0;
 let lastMesh; // the latest DeformedMesh of MESH
 let checked = 0;
 let closed;
+let seq; // --finite: {first, last} of the samples' seq
 const wanted = stall ? null : new Set(finite ? [finiteTopic] : [`scene/${mesh}`, `image/${camera}`, "DeformedMesh"]);
 // Every number in a decoded message, nested fields included.
 const numbers = (v) =>
@@ -72,6 +75,10 @@ client.on("message", ({ subscriptionId, timestamp, data }) => {
   seen.set(c.topic, s);
   if (stall) return;
   if (finite && numbers(m).some((x) => !Number.isFinite(x))) fail(`${c.topic}: a sample with a number not finite`);
+  if (finite && m.seq !== undefined) {
+    const n = Number(m.seq);
+    seq = { first: Math.min(seq?.first ?? n, n), last: Math.max(seq?.last ?? n, n) };
+  }
   if (c.topic === "DeformedMesh" && m.mesh === mesh) lastMesh = m;
   if (c.topic === `scene/${mesh}`) {
     const e = m.entities?.[0];
@@ -99,6 +106,6 @@ setTimeout(() => {
   const points = lastMesh ? lastMesh.positions.length / 3 : 0;
   console.log(JSON.stringify({ server: serverInfo?.name, capabilities: serverInfo?.capabilities,
     channels: [...channels.values()].map((c) => c.channel.topic), subscribed: subs.size, rates, mesh_vertices: points,
-    scene_checked: checked, times, closed }));
+    scene_checked: checked, times, closed, seq }));
   process.exit(0);
 }, Number(seconds) * 1000);

@@ -46,6 +46,32 @@ TEST(Participant, LockstepReadersHoldSamplesUntilTheirStep) {
   EXPECT_EQ(got, (std::vector<std::uint64_t>{3, 5}));
 }
 
+// A reader in the writer's process is handed each sample on the writer's
+// thread, inside write, and writing() says so there (the Foxglove bridge's
+// receiving threads rest, but never a writer's); outside a write it is false.
+TEST(Participant, AnInProcessReaderIsHandedSamplesInsideWrite) {
+  Participant p(kParticipantDomain, "unit_writing");
+  Reader<HapticState> reader(p, {}, nullptr, "control");
+  Writer<HapticState> writer(p);
+  const std::int64_t deadline = mono_ns() + 5'000'000'000;
+  while (writer.matched() < 1 && mono_ns() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  const std::thread::id here = std::this_thread::get_id();
+  int inside = 0, elsewhere = 0;
+  reader.on_arrival([&] {
+    reader.take([&](const HapticState&) { ++(writing() && std::this_thread::get_id() == here ? inside : elsewhere); });
+  });
+  for (int k = 0; k < 3; ++k) {
+    HapticState s;
+    s.orientation().w(1);
+    s.seq(std::uint64_t(k));
+    ASSERT_TRUE(writer.write(s));
+  }
+  reader.on_arrival(nullptr);
+  EXPECT_EQ(inside, 3);
+  EXPECT_EQ(elsewhere, 0);
+  EXPECT_FALSE(writing());
+}
+
 // In lockstep the step protocol's writers keep their last samples once
 // acknowledged (TRANSIENT_LOCAL, endpoint.h: kept_in_lockstep), which a
 // durable reader joining later receives, in order; other state writers

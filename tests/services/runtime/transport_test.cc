@@ -6,6 +6,9 @@
 
 #include <fastrtps/utils/IPLocator.h>
 #include <gtest/gtest.h>
+#include <thread>
+
+#include <fastdds/rtps/transport/TransportReceiverInterface.h>
 #include <fastdds/rtps/common/LocatorSelector.hpp>
 
 namespace hcosim::services::runtime {
@@ -61,6 +64,32 @@ TEST(UdpBesideShm, ReadersSharedMemoryReachesGetNoUdp) {
   transport.select_locators(selector);
   EXPECT_FALSE(here.enabled);
   EXPECT_EQ(selector.selected_size(), 2u);
+}
+
+// Records whether the thread that passes it a datagram says it receives UDP.
+struct Told : eprosima::fastdds::rtps::TransportReceiverInterface {
+  void OnDataReceived(const eprosima::fastrtps::rtps::octet*, const uint32_t, const Locator_t&,
+                      const Locator_t&) override {
+    said = receives_udp();
+  }
+  bool said = false;
+};
+
+// A thread that passed a datagram on from UDP says so from then on (the
+// Foxglove bridge never rests there); other threads do not.
+TEST(UdpBesideShm, ItsReceivingThreadsSaySo) {
+  UdpBesideShm transport(UdpBesideShmDescriptor(std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>()));
+  Told next;
+  bool after = false;
+  std::thread receiving([&] {
+    const eprosima::fastrtps::rtps::octet datagram[4] = {'R', 'T', 'P', 'S'};
+    transport.receive(&next, datagram, 4, udp("127.0.0.1", 7411), udp("127.0.0.1", 7413));
+    after = receives_udp();
+  });
+  receiving.join();
+  EXPECT_TRUE(next.said);
+  EXPECT_TRUE(after);
+  EXPECT_FALSE(receives_udp());
 }
 
 }  // namespace
