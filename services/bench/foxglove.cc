@@ -52,6 +52,23 @@ std::string find(const std::string& text, const std::string& pattern, const std:
   return m[1];
 }
 
+// The port the bridge says it serves at in its log `fox_log`, read until
+// it says so (within 60 s, while `up` runs): on this loaded machine the
+// bridge's start took 2 to 4 s, and one read a second after "every
+// service running" found no port in three runs of six.
+std::string serving(pid_t up, const fs::path& fox_log) {
+  const std::int64_t deadline = runtime::mono_ns() + std::int64_t(60e9);
+  const std::regex line(R"(serving ws://127\.0\.0\.1:(\d+))");
+  for (;;) {
+    std::smatch m;
+    const std::string text = read_all(fox_log);
+    if (std::regex_search(text, m, line)) return m[1];
+    if (runtime::mono_ns() > deadline || waitpid(up, nullptr, WNOHANG) == up)
+      throw std::runtime_error("bench foxglove: the bridge never said where it serves, see " + fox_log.string());
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+}
+
 struct Run {
   double rtt_p50_us = NAN, rtt_p99_us = NAN, in_tick = NAN, cpu_share = NAN, cpu_share_no_client = NAN, seconds = 0;
   foxglove::ClientCounts client;
@@ -83,28 +100,34 @@ Run run(const Context& c, const fs::path& dir, bool bridge, double idle, double 
   const pid_t up = start_up(file, dir / "out", log);
   wait_running(up, log, "bench foxglove");
   Run r;
-  std::unique_ptr<foxglove::Client> client;
-  pid_t fox = 0;
-  std::this_thread::sleep_for(std::chrono::seconds(1));  // every reader matched
-  if (bridge) {
-    const int port = std::stoi(
-        find(read_all(dir / "out" / "logs" / "fox.log"), R"(serving ws://127\.0\.0\.1:(\d+))", "port in fox.log"));
-    fox = pid_t(std::stoi(find(read_all(log), R"(started fox +pid (\d+))", "bridge pid in " + log.string())));
-    r.cpu_share_no_client = cpu_share_over(fox, idle);
-    client = std::make_unique<foxglove::Client>("127.0.0.1", port);
-  } else {
-    std::this_thread::sleep_for(std::chrono::duration<double>(idle));
-  }
-  std::this_thread::sleep_for(std::chrono::seconds(1));  // connected and subscribed
-  const std::int64_t t0 = runtime::mono_ns();
-  if (fox)
-    r.cpu_share = cpu_share_over(fox, seconds);
-  else
-    std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
-  r.seconds = (runtime::mono_ns() - t0) * 1e-9;
-  if (client) {
-    r.client = client->counts();
-    client.reset();
+  try {
+    std::unique_ptr<foxglove::Client> client;
+    pid_t fox = 0;
+    std::this_thread::sleep_for(std::chrono::seconds(1));  // every reader matched
+    if (bridge) {
+      const int port = std::stoi(serving(up, dir / "out" / "logs" / "fox.log"));
+      fox = pid_t(std::stoi(find(read_all(log), R"(started fox +pid (\d+))", "bridge pid in " + log.string())));
+      r.cpu_share_no_client = cpu_share_over(fox, idle);
+      client = std::make_unique<foxglove::Client>("127.0.0.1", port);
+    } else {
+      std::this_thread::sleep_for(std::chrono::duration<double>(idle));
+    }
+    std::this_thread::sleep_for(std::chrono::seconds(1));  // connected and subscribed
+    const std::int64_t t0 = runtime::mono_ns();
+    if (fox)
+      r.cpu_share = cpu_share_over(fox, seconds);
+    else
+      std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+    r.seconds = (runtime::mono_ns() - t0) * 1e-9;
+    if (client) {
+      r.client = client->counts();
+      client.reset();
+    }
+  } catch (...) {
+    // Nothing left behind: the deployment stops with the bench.
+    kill(up, SIGINT);
+    waitpid(up, nullptr, 0);
+    throw;
   }
   int status = 0;
   waitpid(up, &status, 0);
