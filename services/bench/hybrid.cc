@@ -19,7 +19,9 @@
 //   sank under the proxy over the stylus's depth.
 // stiffening: at the same points, the behavior model's force for a 4 mm
 //   press of its drawn surface over 40 times its force for 0.1 mm, and the
-//   same at the force gain's points: why some points sink less.
+//   same at the force gain's points: why some points sink less; along the
+//   organ's line, the largest ratio between two points 2 mm apart
+//   (`neighbours`): how local the differences are.
 // visual_map: each map on a known smooth deformation (a press dent and a
 //   bend) applied to the cage, for the rounded box (`shape` box: 602 and
 //   5402 vertices) and an organ-like smooth ellipsoid inscribed in the cube
@@ -185,8 +187,10 @@ Row seen_row(const std::string& body, const HybridSpec& s, const std::vector<Eig
 // at the force gain's points. The force felt is the gain point's for the
 // depth times the compliance at rest there over here, so a point that
 // stiffens more than the gain point sinks by less than the stylus's depth,
-// and one that stiffens less by more.
-Row stiffening_row(const std::string& body, const HybridSpec& s, const std::vector<Eigen::Vector2d>& points) {
+// and one that stiffens less by more. `line`: where in `points` a line of
+// points begins, each the next's neighbour (none: -1).
+Row stiffening_row(const std::string& body, const HybridSpec& s, const std::vector<Eigen::Vector2d>& points,
+                   int line = -1) {
   const Hybrid h(s);
   const auto stiffening = [](double shallow, double deep) { return (deep / 4e-3) / (shallow / 1e-4); };
   std::vector<double> at_points;
@@ -204,6 +208,12 @@ Row stiffening_row(const std::string& body, const HybridSpec& s, const std::vect
          {"max", *std::max_element(at_points.begin(), at_points.end())},
          {"gain_soft", stiffening(g.at(1e-4, false), g.at(4e-3, false))}}};
   if (!g.stiff.empty()) r.metrics.push_back({"gain_stiff", stiffening(g.at(1e-4, true), g.at(4e-3, true))});
+  if (line >= 0) {
+    double most = 1;
+    for (std::size_t k = std::size_t(line) + 1; k < at_points.size(); ++k)
+      most = std::max(most, std::max(at_points[k], at_points[k - 1]) / std::min(at_points[k], at_points[k - 1]));
+    r.metrics.push_back({"neighbours", most});
+  }
   return r;
 }
 
@@ -483,7 +493,7 @@ std::vector<Row> hybrid_rows(const Context& c) {
     std::vector<Eigen::Vector2d> line = {{-0.006, 0.004}, {0.006, 0.004}};
     for (int k = -8; k <= 8; ++k) line.push_back({0.002 * k, -0.002});
     rows.push_back(seen_row("organ", organ_spec(), line));
-    rows.push_back(stiffening_row("organ", organ_spec(), line));
+    rows.push_back(stiffening_row("organ", organ_spec(), line, 2));
   }
   for (Row& r : against_fem_rows(c.quick)) rows.push_back(std::move(r));
   progress("hybrid visual maps on a known deformation");
@@ -551,7 +561,10 @@ Suite hybrid_suite() {
        "where cells give way, more where they stiffen); the smallest, the median and the largest, and the same at "
        "the force gain's points (gain_soft, gain_stiff). The force felt is the gain point's for the depth scaled by "
        "the compliance at rest: at a point that stiffens more than the gain point it is less than the behavior model's "
-       "force for the depth (by about the ratio of the two), and the drawn surface sinks by less than the stylus."},
+       "force for the depth (by about the ratio of the two), and the drawn surface sinks by less than the stylus. "
+       "neighbours: along the organ's line, the largest ratio of two points' figures 2 mm apart (under a cell): near "
+       "the spread over the whole organ, the differences are where a press lands on a cell, not regions a few gain "
+       "points could be calibrated at."},
       {"force_vs_behavior",
        "The force felt (the S-Chain's times Hybrid::force_scale, models/deformable/hybrid.h) against the behavior "
        "model's static force for a press of its drawn surface as deep (behavior_surface_force), 0.5 to 25 mm, at "
