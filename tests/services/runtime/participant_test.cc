@@ -1,5 +1,6 @@
 // A participant refuses a bad domain and QoS file; lockstep readers hold
-// samples until their step.
+// samples until their step; an in-process reader is handed samples inside
+// write.
 #include <chrono>
 #include <thread>
 

@@ -1,7 +1,7 @@
 // UDP beside shared memory: a reader that announced a shared-memory locator
 // of this host gets nothing over UDP; one that announced only UDP (another
-// host, another DDS implementation) gets UDP; and the reader's selection
-// state is as UDP found it.
+// host, another DDS implementation) gets UDP; the reader's selection
+// state is as UDP found it; and UDP's receiving threads say what they are.
 #include "services/runtime/transport.h"
 
 #include <fastrtps/utils/IPLocator.h>
