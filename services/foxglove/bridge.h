@@ -63,7 +63,7 @@ class Bridge {
   // awake kAwakeNs since it last rested, it rests kRestNs, and what
   // arrives meanwhile waits in the port's queue (1,024 deep, deploy/qos.xml)
   // to be taken in one wake-up. Fast DDS wakes that thread for every
-  // sample, about 1,600 times a second at the default scene, and on a
+  // sample, about 1,500 times a second at the default scene, and on a
   // virtual machine the wake-ups cost more than the samples' work; the
   // clients are sent to every 10 ms anyway (docs/PERFORMANCE.md, "The live
   // Foxglove bridge"). Never on UDP's threads (runtime::receives_udp), nor
