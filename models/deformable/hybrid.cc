@@ -795,7 +795,9 @@ Touch Hybrid::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
       if (mesh_->behind(rest, p, hip)) contact_ = p;
     }
     cone_.release();
+    if (contact_.face >= 0) follow_ = 1, stored_ = 0;
   }
+  const Eigen::Vector3d from = has_last_ ? last_hip_ : hip;  // m: where the HIP was a tick ago
   last_hip_ = hip, has_last_ = true;
   // Only the masses the last touch loaded are cleared: at 100x a whole
   // matrix is 2.3 MB a tick.
@@ -818,7 +820,7 @@ Touch Hybrid::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
   // short ranges stop it against the anchors, and the rest is a wall).
   const bool stiff = chains_.lattice().material[e].stiffness > spec_.chain.stiffness;
   const double depth = offset.norm();
-  Eigen::Vector3d force = force_scale(e, depth, stiff) * chains_.force();
+  Eigen::Vector3d force = follow_ * force_scale(e, depth, stiff) * chains_.force();
   const SurfacePoint at = contact_;  // where this tick's force acts
   if (!grab && force.dot(n) <= 0) {
     force.setZero();  // chains that do not push do not pull either
@@ -829,6 +831,19 @@ Touch Hybrid::touch(double dt, const Eigen::Vector3d& hip, bool grab) {
     force = g.force;
     if (g.keep < 1) contact_ = mesh_->nearest(rest, at, p + (1 - g.keep) * (offset - offset.dot(n) * n));
   }
+  // No more energy back than the stylus put in since the contact began:
+  // the force is at most kReturn times the work stored (this tick's
+  // included) over the offset, so that, backing out, it tapers to nothing
+  // with the offset (as the offset to the power kReturn - 1) where the
+  // chains' relaxation or follow() would give back more. A force that
+  // grows as the offset squared or slower stores at least a third of
+  // force times offset and is never cut.
+  const double work = -force.dot(hip - from);
+  const double most = kReturn * (stored_ + std::max(0.0, work)) / std::max(offset.norm(), 1e-9);
+  capped_ = force.norm() > most;
+  if (capped_) force *= most / force.norm();
+  if (-force.dot(hip - from) < -stored_) force *= stored_ / force.dot(hip - from);
+  stored_ = std::max(0.0, stored_ - force.dot(hip - from));
   // The behavior model takes the opposite, from the visual vertices of the
   // proxy's face through the map's weights (whose rows sum to one).
   const Eigen::Vector3i& tri = mesh_->triangle(at.face);
@@ -872,7 +887,51 @@ double Hybrid::force_scale(int e, double depth, bool stiff) const {
   return gain_.at(depth, stiff) * ratio / chain;
 }
 
+Eigen::Vector3d Hybrid::moved(const SurfacePoint& q) const {
+  const models::massspring::Lattice& lat = masses_->lattice();
+  const Eigen::Vector3i& tri = mesh_->triangle(q.face);
+  Eigen::Vector3d u = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 3; ++k)
+    for (Weights::InnerIterator w(weights_, tri[k]); w; ++w) {
+      const int m = cage_[w.col()];
+      u += q.bary[k] * w.value() * (state_.x.col(m) - lat.rest.col(m));
+    }
+  return u;
+}
+
+double Hybrid::sunk() const {
+  if (contact_.face < 0) return 0;
+  const Eigen::Vector3d offset = last_hip_ - mesh_->point(surface_, contact_);
+  if (!(offset.norm() > 0)) return 0;
+  const Eigen::Vector3d p = mesh_->point(visual_.vertices, contact_), o = offset.normalized();
+  // The proxy's own material point, and the one now on the line from the
+  // proxy toward the HIP: a press moves the surface sideways too, so the
+  // surface drawn there is not the proxy's own, and where the lattice
+  // gives way the proxy's goes deeper than the surface on that line.
+  const double own = o.dot(moved(contact_));
+  SurfacePoint q = contact_;
+  Eigen::Vector3d at = p + moved(q);
+  for (int k = 0; k < kSunkWalks; ++k) {
+    const Eigen::Vector3d aside = (at - p) - (at - p).dot(o) * o;
+    if (aside.norm() < 1e-6) break;
+    q = mesh_->nearest(visual_.vertices, q, mesh_->point(visual_.vertices, q) - aside);
+    at = mesh_->point(visual_.vertices, q) + moved(q);
+  }
+  return std::max(own, o.dot(at - p));
+}
+
 void Hybrid::couple() {
+  // follow(): harder while the drawn surface under the stylus has sunk by
+  // less than the press's depth, softer while by more.
+  if (!modal_ && contact_.face >= 0) {
+    const Eigen::Vector3d offset = last_hip_ - proxy();
+    const double depth = offset.norm();
+    if (depth > kFollowFrom && -offset.dot(mesh_->normal(surface_, contact_)) >= 0.5 * depth) {
+      const double dt = spec_.behavior.dt > 0 ? spec_.behavior.dt : 1e-3, s = sunk();
+      const double r = std::clamp(s > 0 ? depth / s : 2.0, 0.5, capped_ ? 1.0 : 2.0);
+      follow_ = std::clamp(follow_ * std::pow(r, std::min(1.0, dt / kFollowTime)), 1 / kFollowSpread, kFollowSpread);
+    }
+  }
   loads_.clear();
   if (load_ticks_ > 0) {
     std::sort(sum_masses_.begin(), sum_masses_.end());  // mass order, whatever the order of touches

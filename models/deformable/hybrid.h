@@ -203,14 +203,20 @@ class Hybrid final : public Object {
   // back outside its tangent plane (or, with `grab`, until grab ends: then
   // it sticks and may pull). The S-Chain element nearest the proxy is moved
   // by the HIP's offset from the proxy; the chains' force times the force
-  // scale at that offset's length there (force_scale) is the force on the
-  // stylus, kept inside the friction cone.
+  // scale at that offset's length there (force_scale) and follow() is the
+  // force on the stylus, kept inside the friction cone, and within what
+  // the stylus has put in: at most kReturn times the work it has done on
+  // the object since the contact began over the offset's length, so that
+  // no press gives back more work than it took and the force tapers off
+  // as the stylus comes out.
   Touch touch(double dt, const Eigen::Vector3d& hip, bool grab) override;
   double behavior_dt() const override { return spec_.behavior.dt; }
   // couple(): the behavior model's loads for its next step, the opposite of
   // the forces felt since the last one (their mean), spread from the
   // proxy's visual vertices over the masses the map reads by the map's own
-  // weights; integrate(): steps the behavior model under them.
+  // weights, and follow() moved toward the behavior model's sink (without
+  // the modal model, which is linear, so force_scale is already its own,
+  // and rings); integrate(): steps the behavior model under them.
   void couple() override;
   void integrate() override;
   // cage(): the displacements of the masses the map reads. surface_from:
@@ -250,6 +256,29 @@ class Hybrid final : public Object {
   // surface is there at rest.
   double force_scale(int e, double depth, bool stiff) const;
   static constexpr double kPointSpread = 8;
+  // How much harder than force_scale the force felt presses (issue 26
+  // item 4 away from the gain points): 1 at each contact's start, then,
+  // at each couple() while the HIP presses within 60 degrees of the
+  // normal and deeper than kFollowFrom, times the press's depth over how
+  // far the drawn surface has sunk (sunk()) to the power behavior dt over
+  // kFollowTime, each ratio within [1/2, 2] and never above 1 while the
+  // work stored holds the force back; within [1 / kFollowSpread,
+  // kFollowSpread]. Once the behavior model has settled, the drawn surface
+  // under the proxy has sunk by the stylus's depth and the force felt is
+  // the behavior model's for that press, where the work stored allows.
+  double follow() const { return follow_; }
+  // m: how far the drawn surface has sunk under the stylus along the line
+  // from the proxy's point of the drawn rest surface toward the HIP: the
+  // larger of where the surface drawn now crosses that line (a press moves
+  // the surface sideways too) and how far the proxy's own material point
+  // went along it (past a cell that gives way, the crossing is elsewhere
+  // on the surface: following it would push the point through). 0 without
+  // contact.
+  double sunk() const;
+  static constexpr double kFollowFrom = 1e-4;  // m
+  static constexpr double kFollowTime = 0.1;   // s
+  static constexpr double kFollowSpread = 8;
+  static constexpr double kReturn = 3;  // a force growing as the offset squared or slower is never held back
   const std::vector<int>& cage_masses() const { return cage_; }  // masses the map reads, in its column order
   int simulated() const { return simulated_; }                   // masses the last behavior step integrated
   int substeps() const { return substeps_; }                     // substeps the last behavior step took
@@ -295,6 +324,11 @@ class Hybrid final : public Object {
   std::vector<models::massspring::PointForce> loads_;  // the next behavior step's
   int simulated_ = 0;
   int substeps_ = 0;
+  double follow_ = 1;    // follow()
+  double stored_ = 0;    // J: the work the stylus has done on the object since the contact began
+  bool capped_ = false;  // whether the last touch's force was held back to the work stored
+  Eigen::Vector3d moved(const SurfacePoint& q) const;  // m: the visual surface's displacement at q
+  static constexpr int kSunkWalks = 3;                 // sunk()'s steps toward the line
 };
 
 }  // namespace hcosim::models::deformable

@@ -7,6 +7,8 @@
 
 #include <Eigen/Geometry>
 
+#include "models/deformable/proxy.h"
+
 namespace hcosim::models::deformable {
 
 GridSurface grid_surface(int nx, int ny, int nz) {
@@ -89,6 +91,14 @@ double height_over(const Eigen::Matrix3Xd& x, const std::vector<Eigen::Vector3i>
     if (u >= 0 && w >= 0 && u + w <= 1) top = std::max(top, a.z() + u * (b.z() - a.z()) + w * (c.z() - a.z()));
   }
   return top;
+}
+
+double depth_inside(const Eigen::Matrix3Xd& x, const std::vector<Eigen::Vector3i>& triangles,
+                    const Eigen::Vector3d& q) {
+  const MeshProxy mesh(triangles, int(x.cols()));
+  const SurfacePoint p = mesh.closest(x, q);
+  const double d = (q - mesh.point(x, p)).norm();
+  return mesh.behind(x, p, q) ? d : -d;
 }
 
 Eigen::Matrix3Xd vertex_normals(const Eigen::Matrix3Xd& x, const std::vector<Eigen::Vector3i>& triangles) {

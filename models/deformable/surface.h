@@ -42,6 +42,11 @@ models::massspring::TriangleMesh rounded_box(int subdivisions, const Eigen::Vect
 // -infinity where none does.
 double height_over(const Eigen::Matrix3Xd& x, const std::vector<Eigen::Vector3i>& triangles, const Eigen::Vector2d& at);
 
+// m: how deep q is inside the closed mesh at positions x: its distance
+// from the mesh's nearest point, negative outside. How far the stylus's
+// tip is drawn inside an object.
+double depth_inside(const Eigen::Matrix3Xd& x, const std::vector<Eigen::Vector3i>& triangles, const Eigen::Vector3d& q);
+
 // Unit area-weighted vertex normals of a triangle mesh at positions x; a
 // vertex whose triangles all collapsed gets +z rather than NaN.
 Eigen::Matrix3Xd vertex_normals(const Eigen::Matrix3Xd& x, const std::vector<Eigen::Vector3i>& triangles);

@@ -15,8 +15,9 @@
 //   released (and, full run, pulled), against the FEM of its tissue refined
 //   2 (--quick) or 3 times: the displacement error over time.
 // seen_vs_felt: the default scene's cube and organ pressed from above 4 mm
-//   past their drawn surface at a few points: how far the drawn surface
-//   sank under the proxy over the stylus's depth.
+//   past their drawn surface at a few points: how much of the stylus tip's
+//   depth the drawn surface followed; let go, the work the stylus got back
+//   over the work it did, and the force at contact's end over its peak.
 // stiffening: at the same points, the behavior model's force for a 4 mm
 //   press of its drawn surface over 40 times its force for 0.1 mm, and the
 //   same at the force gain's points: why some points sink less; along the
@@ -153,32 +154,49 @@ Row pipeline_row(const std::string& scale, BehaviorModel model) {
 
 // What is seen against what is felt: pressed from above at each point
 // (offsets from the centre, m) from 1 mm over the drawn surface to 4 mm
-// past it over 0.3 s and held 1.2 s, how far the drawn surface sank under
-// the proxy over how deep the stylus is past it (1: the surface follows
-// the stylus; the rest is the stylus drawn inside the object).
+// past it over 0.3 s and held 1.2 s, how much of the stylus tip's depth
+// inside the object at rest the drawn surface has followed (1: the surface
+// follows the tip; less: the tip is drawn inside the object; more: the
+// surface sinks past it); then let go over 0.3 s, the work the stylus got
+// back over the work it did, and the force at the last tick of contact
+// over the contact's largest.
 Row seen_row(const std::string& body, const HybridSpec& s, const std::vector<Eigen::Vector2d>& points) {
-  std::vector<double> ratio;
+  std::vector<double> ratio, returned, end;
   for (const Eigen::Vector2d& p : points) {
     Hybrid h(s);
     const Eigen::Vector2d at = s.centre.head<2>() + p;
     const double top = height_over(h.visual_rest().vertices, h.triangles(), at);
-    const Eigen::Vector3d above(at.x(), at.y(), top + 0.001);
-    Touch t;
-    for (int k = 0; k < 1500; ++k) {
-      t = h.touch(1e-3, above - Eigen::Vector3d(0, 0, 0.005 * std::min(1.0, (k + 1) / 300.0)), false);
+    const Eigen::Vector3d above(at.x(), at.y(), top + 0.001), tip = above - Eigen::Vector3d(0, 0, 0.005);
+    double in = 0, out = 0, peak = 0, last = 0;
+    Eigen::Vector3d from = above;
+    for (int k = 0; k < 2000; ++k) {
+      const double d = 0.005 * std::min({1.0, (k + 1) / 300.0, std::max(0.0, (1800 - k) / 300.0)});
+      const Eigen::Vector3d hip = above - Eigen::Vector3d(0, 0, d);
+      const Touch t = h.touch(1e-3, hip, false);
       h.advance();
+      const double work = -t.force.dot(hip - from);
+      if (work > 0)
+        in += work;
+      else
+        out -= work;
+      if (t.in_contact) last = t.force.norm(), peak = std::max(peak, last);
+      from = hip;
+      if (k == 1499) {
+        if (!t.in_contact) throw std::runtime_error("bench hybrid: the " + body + " was not touched");
+        ratio.push_back(1 - depth_inside(h.surface(), h.triangles(), tip) /
+                                depth_inside(h.visual_rest().vertices, h.triangles(), tip));
+      }
     }
-    if (!t.in_contact) throw std::runtime_error("bench hybrid: the " + body + " was not touched");
-    const Eigen::Vector2d under = h.proxy().head<2>();
-    ratio.push_back(
-        (height_over(h.visual_rest().vertices, h.triangles(), under) - height_over(h.surface(), h.triangles(), under)) /
-        t.depth);
+    returned.push_back(out / in);
+    end.push_back(last / peak);
   }
   return {"seen_vs_felt",
           {{"body", body}, {"points", double(points.size())}},
           {{"min_ratio", *std::min_element(ratio.begin(), ratio.end())},
            {"median_ratio", quantile(ratio, 0.5)},
-           {"max_ratio", *std::max_element(ratio.begin(), ratio.end())}}};
+           {"max_ratio", *std::max_element(ratio.begin(), ratio.end())},
+           {"work_returned_max", *std::max_element(returned.begin(), returned.end())},
+           {"end_force_max", *std::max_element(end.begin(), end.end())}}};
 }
 
 // How much the behavior model stiffens under a 4 mm press of its drawn
@@ -390,8 +408,10 @@ std::vector<Row> visual_rows(bool quick) {
 // The force felt against the behavior model's for a press of the surface
 // drawn, on each side of the 10 cm cube with a stiff side 4 times
 // stiffer, at its gain point (models/deformable/hybrid.h, ForceGain):
-// pressed from 1 mm above to each depth over 0.1 s and held 0.2 s, let go
-// for 1 s between presses.
+// pressed from 1 mm above to each depth over 0.1 s and held 0.9 s (the
+// force follows the behavior model, which rings for a few tenths of a
+// second under a deep press of the stiff side), let go for 1 s between
+// presses.
 std::vector<Row> force_rows() {
   HybridSpec s;
   s.map = VisualMap::trilinear, s.stiff_ratio = 4;
@@ -410,7 +430,7 @@ std::vector<Row> force_rows() {
     for (std::size_t j = 0; j < depths.size(); ++j) {
       for (int k = 0; k < 1000; ++k) h.touch(1e-3, Eigen::Vector3d(r.x(), r.y(), surface + 0.002), false), h.advance();
       Touch t;
-      for (int k = 0; k < 300; ++k) {
+      for (int k = 0; k < 1000; ++k) {
         t = h.touch(
             1e-3, Eigen::Vector3d(r.x(), r.y(), surface + 0.001 - (0.001 + depths[j]) * std::min(1.0, (k + 1) / 100.0)),
             false);
@@ -551,10 +571,14 @@ Suite hybrid_suite() {
       {"seen_vs_felt",
        "What is seen against what is felt, on the default scene's cube (3 cm) and organ (the liver, 4.5 cm, 16 nodes "
        "along it, its stiff lobe at +x): pressed from above at each of `points` points, 4 mm past the drawn surface "
-       "and held 1.2 s, how far the drawn surface sank under the proxy over the stylus's depth past it (1: the "
-       "surface follows the stylus; less: the stylus is drawn inside the object; more: the surface sinks past it); the "
-       "smallest, the median and the largest. The cube at its centre and three points a quarter of its size off; the "
-       "organ every 2 mm along its length 2 mm off its middle line, and two points 4 mm to the other side."},
+       "and held 1.2 s, how much of the stylus tip's depth inside the object at rest the drawn surface has followed: "
+       "one less the tip's distance inside the surface drawn over its distance inside the surface at rest (1: the "
+       "surface follows the tip; less: the tip is drawn inside the object; more: the surface sinks past it); the "
+       "smallest, the median and the largest. Then let go over 0.3 s: work_returned_max, the largest work the "
+       "stylus got back over the work it did (at most 1: no energy created), and end_force_max, the largest force at "
+       "a contact's last tick over its peak (small: the force tapers off rather than dropping as contact ends). The "
+       "cube at its centre and three points a quarter of its size off; the organ every 2 mm along its length 2 mm off "
+       "its middle line, and two points 4 mm to the other side."},
       {"stiffening",
        "Why some of those points sink less: at each, the behavior model's static force for a press of its drawn "
        "surface 4 mm deep over 40 times its force for 0.1 mm (behavior_surface_force; 1 for a linear model, less "
@@ -566,7 +590,8 @@ Suite hybrid_suite() {
        "the spread over the whole organ, the differences are where a press lands on a cell, not regions a few gain "
        "points could be calibrated at."},
       {"force_vs_behavior",
-       "The force felt (the S-Chain's times Hybrid::force_scale, models/deformable/hybrid.h) against the behavior "
+       "The force felt (the S-Chain's times Hybrid::force_scale and Hybrid::follow, models/deformable/hybrid.h), "
+       "held 0.9 s, against the behavior "
        "model's static force for a press of its drawn surface as deep (behavior_surface_force), 0.5 to 25 mm, at "
        "each side's gain point of the 10 cm cube with a stiff side (stiff_ratio 4): the largest relative difference "
        "(rel_error), and the largest ratio of the S-Chain alone to the behavior model."},
@@ -598,6 +623,10 @@ Suite hybrid_suite() {
        "cube", true},
       {"the drawn organ sinks under the stylus by half its depth or more", "seen_vs_felt", "min_ratio", 0.5, "body",
        "organ", true},
+      {"no more work back than a press took (within 1e-9), cube", "seen_vs_felt", "work_returned_max", 1 + 1e-9, "body",
+       "cube"},
+      {"no more work back than a press took (within 1e-9), organ", "seen_vs_felt", "work_returned_max", 1 + 1e-9,
+       "body", "organ"},
       {"no snap-through up to half the size (issue 26), springs", "press", "rises_to_mm", 50, "floors", "on", true},
       {"no snap-through up to half the size (issue 26), corotational FEM", "press", "rises_to_mm", 50, "behavior",
        "fem", true},

@@ -168,17 +168,19 @@ TEST(Hybrid, TheBehaviorModelDoesNotSnapThroughPastOneCell) {
   EXPECT_LT(behavior_static_force(s, top(s), 0.014 * down).z(), behavior_static_force(s, top(s), 0.012 * down).z());
 }
 
-// The force felt agrees with the shape seen where it is calibrated (issue
-// 26 item 4 at each side's gain point only): pressed from 0.5 mm to a
-// quarter of its size below the drawn surface there, the hybrid's force is
+// The force felt agrees with the shape seen (issue 26 item 4), here at
+// each side's gain point: pressed from 0.5 mm to a quarter of its size
+// below the drawn surface there and held 0.9 s, the hybrid's force is
 // within 15 % of the behavior model's static force for a press of its
 // drawn surface at that depth (behavior_surface_force, settled afresh).
 // What this checks is the path from calibration to hand: the S-Chain's
 // relaxation, the scale between the gain's depths, the contact landing on
-// the point. Elsewhere the two differ by up to 2.7 times on the organ
-// (bench hybrid's stiffening rows; docs/deformable.md), which no test here
-// passes. The S-Chain alone, fitted on 1 to 5 mm, pushes 8.7 to 15.7 times
-// harder by 25 mm (bench hybrid, force_vs_behavior).
+// the point, and follow() settling with the behavior model, which rings
+// under a deep press of the stiff side for a few tenths of a second.
+// Elsewhere follow() brings the force to the behavior model's own
+// (WhatIsSeenFollowsWhatIsFeltAllOverAnOrgan). The S-Chain alone, fitted
+// on 1 to 5 mm, pushes 8.7 to 15.7 times harder by 25 mm (bench hybrid,
+// force_vs_behavior).
 TEST(Hybrid, ForceFeltAgreesWithTheBehaviorModelToAQuarterOfItsSize) {
   HybridSpec s = quick();
   s.stiff_ratio = 4;
@@ -195,7 +197,7 @@ TEST(Hybrid, ForceFeltAgreesWithTheBehaviorModelToAQuarterOfItsSize) {
     const std::vector<double> behavior = behavior_surface_force(s, h.proxy(), depths);
     for (std::size_t j = 0; j < depths.size(); ++j) {
       for (int k = 0; k < 1000; ++k) h.touch(1e-3, Eigen::Vector3d(r.x(), r.y(), surface + 0.002), false), h.advance();
-      for (int k = 0; k < 300; ++k) {
+      for (int k = 0; k < 1000; ++k) {
         t = h.touch(
             1e-3, Eigen::Vector3d(r.x(), r.y(), surface + 0.001 - (0.001 + depths[j]) * std::min(1.0, (k + 1) / 100.0)),
             false);
@@ -442,12 +444,59 @@ TEST(HybridShape, WhatIsSeenFollowsWhatIsFeltAllOverAnOrgan) {
       h.advance();
     }
     ASSERT_TRUE(t.in_contact) << "at " << p.transpose();
-    const Eigen::Vector3i& f = h.triangles()[h.contact().face];
-    double sunk = 0;
-    for (int k = 0; k < 3; ++k)
-      sunk += h.contact().bary[k] * t.normal.dot(h.visual_rest().vertices.col(f[k]) - h.surface().col(f[k]));
-    EXPECT_GT(sunk, 0.5 * t.depth) << "at " << p.transpose() << ": " << t.force.norm() << " N";
-    EXPECT_LT(sunk, 1.5 * t.depth) << "at " << p.transpose() << ": " << t.force.norm() << " N";
+    // How much of the tip's depth in the object at rest the surface drawn
+    // has followed: its depth inside that surface over its depth inside
+    // the surface at rest, from one.
+    const Eigen::Vector3d tip = above - Eigen::Vector3d(0, 0, 0.006);
+    const double seen =
+        1 - depth_inside(h.surface(), h.triangles(), tip) / depth_inside(h.visual_rest().vertices, h.triangles(), tip);
+    EXPECT_NEAR(seen, 1, 0.15) << "at " << p.transpose() << ": " << t.force.norm() << " N";
+  }
+}
+
+// Energy is not created: pressed 5 mm from above and held, with an
+// encoder's jitter (5 um every other tick), then let go slowly or in 10
+// ms, at points of the loaf on both sides and between, the stylus gets
+// back no more work than it did on the object (follow() stiffens a held
+// press, and the S-Chain's force lags on the way out). The bound on the
+// force does not chatter under the jitter (under 2 % from tick to tick
+// while held), and, let go slowly, the force tapers off as the stylus
+// comes out rather than dropping when contact ends (at most 5 % of its
+// peak at the last tick of contact).
+TEST(HybridShape, APressGivesBackNoMoreWorkThanItTook) {
+  HybridSpec s = loaf_spec();
+  s.stiff_ratio = 4;
+  for (const Eigen::Vector2d& p : {Eigen::Vector2d(-0.01, 0.006), Eigen::Vector2d(0, 0), Eigen::Vector2d(0.01, 0)}) {
+    Hybrid h(s);
+    const Eigen::Vector2d at = s.centre.head<2>() + p;
+    const Eigen::Vector3d above(at.x(), at.y(), height_over(h.visual_rest().vertices, h.triangles(), at) + 0.001);
+    for (const int out : {300, 10}) {
+      double in_work = 0, out_work = 0, peak = 0, last = 0, chatter = 0;
+      Eigen::Vector3d from = above;
+      for (int k = 0; k < 300 + 1000 + out + 200; ++k) {
+        double d = 0.006;
+        if (k < 300)
+          d *= (k + 1) / 300.0;
+        else if (k < 1300)
+          d += 5e-6 * (k % 2);
+        else
+          d *= std::max(0.0, 1 - (k - 1299.0) / out);
+        const Eigen::Vector3d hip = above - Eigen::Vector3d(0, 0, d);
+        const Touch t = h.touch(1e-3, hip, false);
+        h.advance();
+        const double work = -t.force.dot(hip - from);
+        (work > 0 ? in_work : out_work) += work;
+        if (k >= 1100 && k < 1300) chatter = std::max(chatter, std::abs(t.force.norm() - last) / last);
+        if (t.in_contact) last = t.force.norm(), peak = std::max(peak, last);
+        from = hip;
+      }
+      EXPECT_LE(-out_work, in_work * (1 + 1e-9)) << "at " << p.transpose() << ", out in " << out << " ms";
+      EXPECT_GT(-out_work, 0.5 * in_work) << "at " << p.transpose() << ", out in " << out << " ms";
+      EXPECT_LT(chatter, 0.02) << "at " << p.transpose();
+      if (out == 300) {
+        EXPECT_LT(last, 0.05 * peak) << "at " << p.transpose() << ": " << last << " of " << peak << " N";
+      }
+    }
   }
 }
 
