@@ -16,7 +16,8 @@
 //   2 (--quick) or 3 times: the displacement error over time.
 // seen_vs_felt: the default scene's cube and organ pressed from above 4 mm
 //   past their drawn surface at a few points: how much of the stylus tip's
-//   depth the drawn surface followed; let go, the work the stylus got back
+//   depth the drawn surface followed, and the force felt against the
+//   behavior model's for that press; let go, the work the stylus got back
 //   over the work it did, and the force at contact's end over its peak.
 // stiffening: at the same points, the behavior model's force for a 4 mm
 //   press of its drawn surface over 40 times its force for 0.1 mm, and the
@@ -157,11 +158,13 @@ Row pipeline_row(const std::string& scale, BehaviorModel model) {
 // past it over 0.3 s and held 1.2 s, how much of the stylus tip's depth
 // inside the object at rest the drawn surface has followed (1: the surface
 // follows the tip; less: the tip is drawn inside the object; more: the
-// surface sinks past it); then let go over 0.3 s, the work the stylus got
-// back over the work it did, and the force at the last tick of contact
-// over the contact's largest.
+// surface sinks past it), and how far the force felt is from the behavior
+// model's static force for that press of its drawn surface there
+// (behavior_surface_force); then let go over 0.3 s, the work the stylus
+// got back over the work it did, and the force at the last tick of
+// contact over the contact's largest.
 Row seen_row(const std::string& body, const HybridSpec& s, const std::vector<Eigen::Vector2d>& points) {
-  std::vector<double> ratio, returned, end;
+  std::vector<double> ratio, felt, returned, end;
   for (const Eigen::Vector2d& p : points) {
     Hybrid h(s);
     const Eigen::Vector2d at = s.centre.head<2>() + p;
@@ -185,6 +188,7 @@ Row seen_row(const std::string& body, const HybridSpec& s, const std::vector<Eig
         if (!t.in_contact) throw std::runtime_error("bench hybrid: the " + body + " was not touched");
         ratio.push_back(1 - depth_inside(h.surface(), h.triangles(), tip) /
                                 depth_inside(h.visual_rest().vertices, h.triangles(), tip));
+        felt.push_back(std::abs(t.force.dot(t.normal) / behavior_surface_force(s, h.proxy(), {t.depth})[0] - 1));
       }
     }
     returned.push_back(out / in);
@@ -195,6 +199,7 @@ Row seen_row(const std::string& body, const HybridSpec& s, const std::vector<Eig
           {{"min_ratio", *std::min_element(ratio.begin(), ratio.end())},
            {"median_ratio", quantile(ratio, 0.5)},
            {"max_ratio", *std::max_element(ratio.begin(), ratio.end())},
+           {"felt_rel_error", *std::max_element(felt.begin(), felt.end())},
            {"work_returned_max", *std::max_element(returned.begin(), returned.end())},
            {"end_force_max", *std::max_element(end.begin(), end.end())}}};
 }
@@ -574,7 +579,10 @@ Suite hybrid_suite() {
        "and held 1.2 s, how much of the stylus tip's depth inside the object at rest the drawn surface has followed: "
        "one less the tip's distance inside the surface drawn over its distance inside the surface at rest (1: the "
        "surface follows the tip; less: the tip is drawn inside the object; more: the surface sinks past it); the "
-       "smallest, the median and the largest. Then let go over 0.3 s: work_returned_max, the largest work the "
+       "smallest, the median and the largest; felt_rel_error, the largest relative difference of the force felt "
+       "along the normal from the behavior model's static force for a press of its drawn surface as deep there "
+       "(behavior_surface_force; issue 26 item 4 at every point). Then let go over 0.3 s: work_returned_max, the "
+       "largest work the "
        "stylus got back over the work it did (at most 1: no energy created), and end_force_max, the largest force at "
        "a contact's last tick over its peak (small: the force tapers off rather than dropping as contact ends). The "
        "cube at its centre and three points a quarter of its size off; the organ every 2 mm along its length 2 mm off "
@@ -623,6 +631,10 @@ Suite hybrid_suite() {
        "cube", true},
       {"the drawn organ sinks under the stylus by half its depth or more", "seen_vs_felt", "min_ratio", 0.5, "body",
        "organ", true},
+      {"force felt within 15 % of the behavior model's at every point of the cube (issue 26)", "seen_vs_felt",
+       "felt_rel_error", 0.15, "body", "cube"},
+      {"force felt within 15 % of the behavior model's at every point of the organ (issue 26)", "seen_vs_felt",
+       "felt_rel_error", 0.15, "body", "organ"},
       {"no more work back than a press took (within 1e-9), cube", "seen_vs_felt", "work_returned_max", 1 + 1e-9, "body",
        "cube"},
       {"no more work back than a press took (within 1e-9), organ", "seen_vs_felt", "work_returned_max", 1 + 1e-9,
