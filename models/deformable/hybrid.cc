@@ -574,10 +574,11 @@ class Pressed {
 };
 
 // The point of the drawn surface nearest `point` (rest, world), loaded as
-// touch() loads a proxy there: along its normal, spread over its face's
-// vertices by their barycentric weights and from each over the masses by
-// its map row. `compliance` is what Hybrid::force_scale takes for it: its
-// vertices' compliances, weighted alike.
+// touch() loads a proxy there: along its inward normal (or `along`, where
+// not zero), spread over its face's vertices by their barycentric weights
+// and from each over the masses by its map row. `compliance` is what
+// Hybrid::force_scale takes for it: its vertices' compliances along that
+// direction, weighted alike.
 struct SurfaceLoad {
   std::vector<std::pair<int, double>> row;  // mass, weight
   Eigen::Vector3d normal;
@@ -586,14 +587,17 @@ struct SurfaceLoad {
 
 SurfaceLoad surface_load(const HybridSpec& spec, const models::massspring::Voxels& voxels,
                          const models::massspring::Lattice& lat, const models::fem::Modal* modal,
-                         const models::massspring::TriangleMesh& visual, const Cage& cage,
-                         const Eigen::Vector3d& point) {
+                         const models::massspring::TriangleMesh& visual, const Cage& cage, const Eigen::Vector3d& point,
+                         const Eigen::Vector3d& along = Eigen::Vector3d::Zero()) {
   const MeshProxy mesh(visual.triangles, int(visual.vertices.cols()));
   const SurfacePoint p = mesh.closest(visual.vertices, point);
   const Eigen::Vector3i& face = mesh.triangle(p.face);
   Eigen::Matrix3Xd at(3, 3), normals(3, 3);
   const Eigen::Matrix3Xd all = vertex_normals(visual.vertices, visual.triangles);
-  for (int k = 0; k < 3; ++k) at.col(k) = visual.vertices.col(face[k]), normals.col(k) = all.col(face[k]);
+  for (int k = 0; k < 3; ++k) {
+    at.col(k) = visual.vertices.col(face[k]);
+    normals.col(k) = along.isZero() ? Eigen::Vector3d(all.col(face[k])) : Eigen::Vector3d(-along.normalized());
+  }
   const Weights rows = map_rows(spec, voxels, cage, at);
   const std::vector<double> c = surface_compliance(spec, lat, modal, rows, cage.masses, normals);
   SurfaceLoad l;
@@ -603,7 +607,7 @@ SurfaceLoad surface_load(const HybridSpec& spec, const models::massspring::Voxel
     l.compliance += p.bary[k] * c[k];
   }
   l.row.assign(by_mass.begin(), by_mass.end());
-  l.normal = mesh.normal(visual.vertices, p);
+  l.normal = along.isZero() ? mesh.normal(visual.vertices, p) : Eigen::Vector3d(-along.normalized());
   return l;
 }
 
@@ -640,8 +644,9 @@ std::vector<double> surface_forces(const HybridSpec& spec, const models::fem::Mo
 }  // namespace
 
 std::vector<double> behavior_surface_force(const HybridSpec& spec, const Eigen::Vector3d& point,
-                                           const std::vector<double>& depths) {
+                                           const std::vector<double>& depths, const Eigen::Vector3d& along) {
   need_hybrid(point.allFinite(), "the point must be finite");
+  need_hybrid(along.allFinite(), "the direction must be finite");
   for (std::size_t j = 0; j < depths.size(); ++j)
     need_hybrid(std::isfinite(depths[j]) && depths[j] > (j > 0 ? depths[j - 1] : 0),
                 "the depths must be finite, > 0 and increasing");
@@ -650,7 +655,8 @@ std::vector<double> behavior_surface_force(const HybridSpec& spec, const Eigen::
   const models::massspring::TriangleMesh visual = hybrid_visual(spec);
   const Cage cage = map_cage(spec, voxels, lat, visual);
   const std::unique_ptr<models::fem::Modal> modal = modal_of(spec);
-  return surface_forces(spec, modal.get(), surface_load(spec, voxels, lat, modal.get(), visual, cage, point), depths);
+  return surface_forces(spec, modal.get(), surface_load(spec, voxels, lat, modal.get(), visual, cage, point, along),
+                        depths);
 }
 
 ForceGain force_gain(const HybridSpec& spec, const Weights& map) {

@@ -209,6 +209,24 @@ TEST(Hybrid, ForceFeltAgreesWithTheBehaviorModelToAQuarterOfItsSize) {
   }
 }
 
+// The behavior model's force for a press of its drawn surface along a
+// direction is its force for a press along the normal where that
+// direction is the inward normal, and differs from it along another.
+TEST(Hybrid, ASurfacePressAlongTheNormalIsTheNormalPress) {
+  const HybridSpec s = quick();
+  const Hybrid h(s);
+  const Eigen::Vector3d at = h.gain_point(false), down(0, 0, -1), slant = Eigen::Vector3d(1, 0, -2).normalized();
+  const std::vector<double> normal = behavior_surface_force(s, at, {0.001, 0.004});
+  const std::vector<double> along = behavior_surface_force(s, at, {0.001, 0.004}, down);
+  // Not bit for bit: the normal press starts its search from the
+  // compliance along the face's vertex normals, which lean a little, and
+  // the search ends within 1 % of the depth (1.5e-5 apart here).
+  for (int j = 0; j < 2; ++j) EXPECT_NEAR(along[j] / normal[j], 1, 1e-3) << "depth " << j;
+  // 0.81 here, 27 degrees off the normal: the lattice is softer slanted.
+  EXPECT_LT(behavior_surface_force(s, at, {0.004}, slant)[0] / normal[1], 0.95);
+  EXPECT_THROW(behavior_surface_force(s, at, {0.001}, Eigen::Vector3d(NAN, 0, -1)), std::invalid_argument);
+}
+
 // With the corotational FEM as its behavior model (a 6^3 cube, to be
 // quick), the force felt 3 mm under the drawn surface is the FEM's static
 // force there within 15 % (the force gain is the FEM's), the FEM takes the
@@ -427,7 +445,9 @@ TEST(HybridShape, AnOrganIsTouchedOnItsDrawnSurfaceAndComesBack) {
 // 15 % of the tip's depth at every point: follow() brings the force to
 // the one under which the behavior model sinks as deep as the stylus
 // (0.91 to 1.01 here; the tree before it, with the force gain alone, 0.65
-// and 0.68 at two points).
+// and 0.68 at two points). And the force felt along the stylus's press is
+// the behavior model's static force for that press within 15 % (0.995 to
+// 1.061 here; without follow(), 0.63 to 1.69, five points out).
 TEST(HybridShape, WhatIsSeenFollowsWhatIsFeltAllOverAnOrgan) {
   HybridSpec s = loaf_spec();
   s.stiff_ratio = 4;
@@ -451,6 +471,14 @@ TEST(HybridShape, WhatIsSeenFollowsWhatIsFeltAllOverAnOrgan) {
     const double seen =
         1 - depth_inside(h.surface(), h.triangles(), tip) / depth_inside(h.visual_rest().vertices, h.triangles(), tip);
     EXPECT_NEAR(seen, 1, 0.15) << "at " << p.transpose() << ": " << t.force.norm() << " N";
+    // The force felt along the stylus's press (from the proxy to the HIP)
+    // is the behavior model's static force for that press of its drawn
+    // surface.
+    const Eigen::Vector3d press = tip - h.proxy();
+    const double felt = -t.force.dot(press.normalized());
+    const double behavior = behavior_surface_force(s, h.proxy(), {press.norm()}, press)[0];
+    EXPECT_NEAR(felt / behavior, 1, 0.15)
+        << "at " << p.transpose() << ": felt " << felt << " N, behavior " << behavior << " N";
   }
 }
 
