@@ -11,7 +11,7 @@ namespace hcosim::services::runtime {
 namespace {
 
 // Every in-process DDS test gets its own domain so ctest -j stays safe.
-constexpr int kAnswerDomain = 151;
+constexpr int kAnswerDomain = 30;
 
 // A source answers each state of its device as it arrives, with no loop of
 // its own running (in one process Fast DDS delivers on the writer's thread;

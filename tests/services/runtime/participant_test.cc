@@ -14,7 +14,7 @@ namespace hcosim::services::runtime {
 namespace {
 
 // Every in-process DDS test gets its own domain so ctest -j stays safe.
-constexpr int kParticipantDomain = 151;
+constexpr int kParticipantDomain = 30;
 
 TEST(Participant, RefusesABadDomainAndQosFile) {
   EXPECT_THROW(Participant(233, "x"), std::runtime_error);

@@ -15,9 +15,9 @@
 namespace hcosim::services::runtime {
 namespace {
 
-// A domain of its own: the other runtime tests' participants on 151 would
+// A domain of its own: the other runtime tests' participants on 30 would
 // match these writers.
-constexpr int kRecordingsDomain = 152;
+constexpr int kRecordingsDomain = 31;
 
 // Polls `done` for up to 5 s.
 template <class Done>

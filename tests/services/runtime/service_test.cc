@@ -15,7 +15,7 @@ namespace hcosim::services::runtime {
 namespace {
 
 // Every in-process DDS test gets its own domain so ctest -j stays safe.
-constexpr int kServiceDomain = 151;
+constexpr int kServiceDomain = 30;
 
 Options options(double rate, double duration) {
   Options o;
