@@ -20,6 +20,7 @@
 #include "services/cli/supervisor.h"
 #include "services/cli/watcher.h"
 #include "services/foxglove/scene.h"
+#include "services/runtime/participant.h"
 #include "services/runtime/recording.h"
 #include "services/runtime/recordings.h"
 #include "services/runtime/service.h"
@@ -155,6 +156,12 @@ int up(const UpOptions& o) {
               runtime::to_string(d.mode), children.size(), o.host.empty() ? "" : (" on host " + o.host).c_str(),
               d.duration_s > 0 ? "" : ", until Ctrl-C",
               security.on() ? (", DDS Security on (" + d.security + ")").c_str() : "");
+  if (const auto [lo, hi] = runtime::ephemeral_ports(); runtime::in_ephemeral_range(d.domain, lo, hi))
+    std::printf(
+        "hcosim up: warning: domain %d's UDP ports (%d to %d) lie in this machine's ephemeral port range (%d to %d, "
+        "/proc/sys/net/ipv4/ip_local_port_range): another program's socket can take one and keep the services from "
+        "finding each other; choose a domain whose ports lie outside it (docs/deployment.md)\n",
+        d.domain, 7400 + 250 * d.domain, 7400 + 250 * d.domain + 249, lo, hi);
   // The host of a discovery server runs it beside its services, until the
   // end; no one waits for it. fast-discovery-server itself, not `fastdds
   // discovery`, whose Python wrapper leaves the server running when stopped.

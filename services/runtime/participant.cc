@@ -11,6 +11,18 @@ namespace hcosim::services::runtime {
 
 using namespace eprosima::fastdds::dds;
 
+bool in_ephemeral_range(int domain, int lo, int hi) {
+  const int first = 7400 + 250 * domain;
+  return first <= hi && first + 249 >= lo;
+}
+
+std::pair<int, int> ephemeral_ports() {
+  std::ifstream in("/proc/sys/net/ipv4/ip_local_port_range");
+  int lo = 0, hi = -1;
+  if (!(in >> lo >> hi)) return {0, -1};
+  return {lo, hi};
+}
+
 std::string default_qos_file() {
   if (const char* env = std::getenv("HCOSIM_QOS"); env && *env) return env;
   return HCOSIM_DEFAULT_QOS_FILE;

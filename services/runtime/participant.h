@@ -4,6 +4,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
@@ -21,6 +22,16 @@ namespace hcosim::services::runtime {
 inline constexpr int kMaxDomain = 232;
 // Highest participant id whose ports fit a domain's 250 (7400 + 250 * domain + 11 + 2 * id).
 inline constexpr int kMaxParticipantId = 119;
+
+// Whether a domain's UDP ports (7400 + 250 * domain and the 249 above it,
+// the RTPS default mapping) meet the kernel's ephemeral ports [lo, hi]:
+// there another program's socket can hold one of the domain's discovery
+// ports and keep its participants from finding each other
+// (docs/deployment.md). On Linux's default range, domains 101 to 214.
+bool in_ephemeral_range(int domain, int lo, int hi);
+// The machine's ephemeral ports (/proc/sys/net/ipv4/ip_local_port_range);
+// {0, -1}, an empty range, where that cannot be read.
+std::pair<int, int> ephemeral_ports();
 
 // QoS file used when none is named: $HCOSIM_QOS, else the tree's deploy/qos.xml.
 std::string default_qos_file();

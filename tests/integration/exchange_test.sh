@@ -43,4 +43,14 @@ grep -q 'null' "$WORK/force.log" && fail "a non-finite force reached the wire"
 wait "${PIDS[0]}"
 grep '"service":"wall"' "$WORK/status.log" | grep -q '"samples_rejected":[1-9]' || fail "wall did not count rejections"
 grep '"service":"wall"' "$WORK/status.log" | grep -q 'HapticState: position.x is NaN' || fail "rejection reason missing"
+# A domain whose UDP ports meet the machine's ephemeral ones is warned of
+# (docs/deployment.md); this test's own is not.
+grep -q "warning: domain" "$WORK/up.log" && fail "up warned of domain $DOMAIN: $(grep warning "$WORK/up.log")"
+read -r lo hi </proc/sys/net/ipv4/ip_local_port_range
+if [ "$lo" -le 49649 ] && [ "$hi" -ge 49400 ]; then
+  sed -E 's/^domain: .*/domain: 168/; s/^duration: .*/duration: 0.5/' "$WORK/up.yaml" >"$WORK/ephemeral.yaml"
+  limit 30 "$BIN/hcosim" up "$WORK/ephemeral.yaml" --out "$WORK/ephemeral" >"$WORK/ephemeral.log" 2>&1
+  grep -qE "^hcosim up: warning: domain 168's UDP ports \(49400 to 49649\) lie in this machine's ephemeral port range \($lo to $hi," \
+    "$WORK/ephemeral.log" || fail "no warning of domain 168's ports: $(cat "$WORK/ephemeral.log")"
+fi
 echo "exchange_test: ok ($answers of $sent answered)"

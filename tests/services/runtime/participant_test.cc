@@ -23,6 +23,16 @@ TEST(Participant, RefusesABadDomainAndQosFile) {
 
 // A lockstep step sees only samples stamped before it, in step order,
 // whatever order they were written in; later ones wait for their step.
+// Linux's default ephemeral ports are 32768 to 60999: a domain's 250
+// ports from 7400 + 250 * domain meet them from domain 101 to 214.
+TEST(Participant, SaysWhichDomainsPortsMeetTheEphemeralOnes) {
+  for (const int clear : {0, 100, 215, kMaxDomain}) EXPECT_FALSE(in_ephemeral_range(clear, 32768, 60999)) << clear;
+  for (const int inside : {101, 168, 214}) EXPECT_TRUE(in_ephemeral_range(inside, 32768, 60999)) << inside;
+  EXPECT_FALSE(in_ephemeral_range(168, 0, -1)) << "a range that could not be read warns of nothing";
+  const auto [lo, hi] = ephemeral_ports();
+  EXPECT_TRUE(hi == -1 || (lo > 0 && lo <= hi && hi <= 65535)) << lo << " to " << hi;
+}
+
 TEST(Participant, LockstepReadersHoldSamplesUntilTheirStep) {
   Participant p(kParticipantDomain, "unit_lockstep", default_qos_file(), nullptr, true);
   Reader<HapticState> reader(p);
