@@ -81,7 +81,7 @@ void clean_shared_memory(int domain) {
   if (std::system("fastdds shm clean > /dev/null 2>&1") != 0)
     std::cerr << "hcosim up: 'fastdds shm clean' failed; stale segments may remain in /dev/shm\n";
   const fs::path shm = "/dev/shm";
-  const int first = 7400 + 250 * domain + 10;
+  const int first = runtime::first_port(domain) + 10;
   for (int port = first; port < first + 2 * (runtime::kMaxParticipantId + 1); ++port) {
     const std::string name = "fastrtps_port" + std::to_string(port);
     std::error_code ec;

@@ -161,7 +161,7 @@ int up(const UpOptions& o) {
         "hcosim up: warning: domain %d's UDP ports (%d to %d) lie in this machine's ephemeral port range (%d to %d, "
         "/proc/sys/net/ipv4/ip_local_port_range): another program's socket can take one and keep the services from "
         "finding each other; choose a domain whose ports lie outside it (docs/deployment.md)\n",
-        d.domain, 7400 + 250 * d.domain, 7400 + 250 * d.domain + 249, lo, hi);
+        d.domain, runtime::first_port(d.domain), runtime::last_port(d.domain), lo, hi);
   // The host of a discovery server runs it beside its services, until the
   // end; no one waits for it. fast-discovery-server itself, not `fastdds
   // discovery`, whose Python wrapper leaves the server running when stopped.

@@ -11,10 +11,7 @@ namespace hcosim::services::runtime {
 
 using namespace eprosima::fastdds::dds;
 
-bool in_ephemeral_range(int domain, int lo, int hi) {
-  const int first = 7400 + 250 * domain;
-  return first <= hi && first + 249 >= lo;
-}
+bool in_ephemeral_range(int domain, int lo, int hi) { return first_port(domain) <= hi && last_port(domain) >= lo; }
 
 std::pair<int, int> ephemeral_ports() {
   std::ifstream in("/proc/sys/net/ipv4/ip_local_port_range");

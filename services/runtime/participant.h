@@ -23,8 +23,13 @@ inline constexpr int kMaxDomain = 232;
 // Highest participant id whose ports fit a domain's 250 (7400 + 250 * domain + 11 + 2 * id).
 inline constexpr int kMaxParticipantId = 119;
 
-// Whether a domain's UDP ports (7400 + 250 * domain and the 249 above it,
-// the RTPS default mapping) meet the kernel's ephemeral ports [lo, hi]:
+// A domain's first UDP port (the RTPS default mapping) and its last (the
+// user unicast port of its highest participant id).
+inline constexpr int first_port(int domain) { return 7400 + 250 * domain; }
+inline constexpr int last_port(int domain) { return first_port(domain) + 11 + 2 * kMaxParticipantId; }
+
+// Whether a domain's UDP ports (first_port to last_port) meet the
+// kernel's ephemeral ports [lo, hi]:
 // there another program's socket can hold one of the domain's discovery
 // ports and keep its participants from finding each other
 // (docs/deployment.md). On Linux's default range, domains 101 to 214.
