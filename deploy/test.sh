@@ -9,7 +9,7 @@
 # their hang limits 3 times longer (tests/CMakeLists.txt). Left out too:
 # three long model sweeps (229, 127 and 77 s there, 8 s each in build/,
 # at 51b3b36), whose code shorter tests run under the sanitizers as well:
-# the S-Chain against the behaviour model at five depths and the behaviour
+# the S-Chain against the behavior model at five depths and the behavior
 # model's deep presses (8 s in build/; Hybrid.StifferSidePushesBackHarderInBothModels
 # runs both models, and MassspringHardCasesPerIntegrator.CollapsedAndInvertedBoxRecover
 # the volume floors), a

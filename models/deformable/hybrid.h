@@ -34,7 +34,7 @@ const char* name(VisualMap map);
 VisualMap parse_visual_map(const std::string& name);  // throws std::invalid_argument listing the names
 
 // The behavior model: 001 §II.A's mass-spring lattice, a corotational
-// FEM of a material (models/fem) on the same nodes (issue 26 item 3), or
+// FEM of a material (models/fem) on the same nodes, or
 // that FEM's lowest modes about rest (models/fem/modal.h).
 enum class BehaviorModel { springs, fem, modal };
 const char* name(BehaviorModel model);
@@ -128,7 +128,7 @@ models::fem::Mesh hybrid_mesh(const HybridSpec& spec);
 // of one of its masses.
 Eigen::Vector3d behavior_static_force(const HybridSpec& spec, int mass, const Eigen::Vector3d& displacement);
 // N, by depth: the behavior model's static answer to a press of the
-// surface drawn (issue 26 item 4): the force with which `spec`'s behavior
+// surface drawn: the force with which `spec`'s behavior
 // model, loaded at the point of its visual rest surface nearest `point`
 // as touch() loads a proxy there (along the surface's inward normal, or
 // along `along` where it is not zero, spread over the face's vertices and
@@ -146,7 +146,7 @@ std::vector<double> behavior_surface_force(const HybridSpec& spec, const Eigen::
                                            const Eigen::Vector3d& along = Eigen::Vector3d::Zero());
 
 // The force felt over the press's depth (the HIP's distance from the
-// proxy; issue 26 item 4): the behavior model's static force for a press
+// proxy): the behavior model's static force for a press
 // of its drawn surface (behavior_surface_force) at 21 depths from 2 % to
 // all of a quarter of the rest box's smallest side (0.5 to 25 mm for a 10
 // cm cube), at a gain point in the middle of the soft side's top and,

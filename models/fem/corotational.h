@@ -5,7 +5,7 @@
 // rigid rotations cost no energy and an inverted element is pushed back
 // (the rotation keeps det R = +1). Stepped by linearised implicit Euler
 // or the trapezoidal rule (rotations fixed over a step), solved by
-// conjugate gradient on Eigen's sparse matrices. The behavior models' reference (issue 26 item 3):
+// conjugate gradient on Eigen's sparse matrices. The behavior models' reference:
 // a material of Young's modulus, Poisson's ratio and density rather than
 // springs tuned by hand.
 #pragma once

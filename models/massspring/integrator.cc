@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <limits>
-#include <stdexcept>
 
 #include "models/massspring/quartet.h"
 
@@ -22,14 +21,6 @@ const char* name(Integrator i) {
       return "local_global";
   }
   return "?";
-}
-
-Integrator parse_integrator(const std::string& s) {
-  for (Integrator i : {Integrator::symplectic_euler, Integrator::velocity_verlet, Integrator::rk4,
-                       Integrator::implicit_euler, Integrator::local_global})
-    if (s == name(i)) return i;
-  throw std::invalid_argument("unknown integrator '" + s +
-                              "' (expected symplectic_euler, velocity_verlet, rk4, implicit_euler or local_global)");
 }
 
 bool is_explicit(Integrator i) { return i != Integrator::implicit_euler && i != Integrator::local_global; }

@@ -22,7 +22,6 @@
 #pragma once
 
 #include <cstdint>
-#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -34,8 +33,6 @@ namespace hcosim::models::massspring {
 enum class Integrator { symplectic_euler, velocity_verlet, rk4, implicit_euler, local_global };
 
 const char* name(Integrator integrator);
-// Throws std::invalid_argument listing the valid names.
-Integrator parse_integrator(const std::string& name);
 bool is_explicit(Integrator integrator);
 
 // Upper bounds on the lattice's highest eigenfrequency (rad/s, sqrt of the

@@ -246,7 +246,7 @@ Row stiffening_row(const std::string& body, const HybridSpec& s, const std::vect
   return r;
 }
 
-// The hybrid cube's behavior models against a continuum (issue 26 item 3):
+// The hybrid cube's behavior models against a continuum:
 // the default 10 cm cube, its floor anchored, pressed (sign -1) or pulled
 // (+1) with 0.5 N on a patch two cells wide at its top centre for 0.2 s,
 // then let go, to 0.4 s; its nodes sampled every 20 ms. The reference is
@@ -567,7 +567,7 @@ Suite hybrid_suite() {
        "map (median) against the RMS distance of mapped vertices from the deformation's own, over the RMS "
        "displacement; trilinear is the baseline in the same run."},
       {"against_fem",
-       "The hybrid cube's behavior models against a continuum (issue 26 item 3): the seed's 10 cm cube, floor "
+       "The hybrid cube's behavior models against a continuum: the seed's 10 cm cube, floor "
        "anchored, pressed (`scene` press) or pulled (pull, full run only) with 0.5 N on a patch two cells wide (a "
        "bilinear tent) at its top centre for 0.2 s, then let go, to 0.4 s; rel_error is the RMS distance of its 1000 "
        "nodes from the "
@@ -587,7 +587,7 @@ Suite hybrid_suite() {
        "surface follows the tip; less: the tip is drawn inside the object; more: the surface sinks past it); the "
        "smallest, the median and the largest; felt_rel_error, the largest relative difference of the force felt "
        "along the stylus's press (from the proxy to the HIP) from the behavior model's static force for that press of "
-       "its drawn surface (behavior_surface_force along it; issue 26 item 4 at every point); felt_rel_error_normal, "
+       "its drawn surface (behavior_surface_force along it, at every point); felt_rel_error_normal, "
        "the same for the normal force felt against a press along the normal as deep (on a slope, the stylus pressing "
        "straight down is not that press: the lattice is stiffer along some directions than others). Then let go over "
        "0.3 s: work_returned_max, the "
@@ -640,19 +640,18 @@ Suite hybrid_suite() {
        "cube", true},
       {"the drawn organ sinks under the stylus by half its depth or more", "seen_vs_felt", "min_ratio", 0.5, "body",
        "organ", true},
-      {"force felt within 15 % of the behavior model's at every point of the cube (issue 26)", "seen_vs_felt",
-       "felt_rel_error", 0.15, "body", "cube"},
-      {"force felt within 15 % of the behavior model's at every point of the organ (issue 26)", "seen_vs_felt",
-       "felt_rel_error", 0.15, "body", "organ"},
+      {"force felt within 15 % of the behavior model's at every point of the cube", "seen_vs_felt", "felt_rel_error",
+       0.15, "body", "cube"},
+      {"force felt within 15 % of the behavior model's at every point of the organ", "seen_vs_felt", "felt_rel_error",
+       0.15, "body", "organ"},
       {"no more work back than a press took (within 1e-9), cube", "seen_vs_felt", "work_returned_max", 1 + 1e-9, "body",
        "cube"},
       {"no more work back than a press took (within 1e-9), organ", "seen_vs_felt", "work_returned_max", 1 + 1e-9,
        "body", "organ"},
-      {"no snap-through up to half the size (issue 26), springs", "press", "rises_to_mm", 50, "floors", "on", true},
-      {"no snap-through up to half the size (issue 26), corotational FEM", "press", "rises_to_mm", 50, "behavior",
-       "fem", true},
-      {"force felt within 15 % of the behavior model to a quarter of the size (issue 26)", "force_vs_behavior",
-       "rel_error", 0.15}};
+      {"no snap-through up to half the size, springs", "press", "rises_to_mm", 50, "floors", "on", true},
+      {"no snap-through up to half the size, corotational FEM", "press", "rises_to_mm", 50, "behavior", "fem", true},
+      {"force felt within 15 % of the behavior model to a quarter of the size", "force_vs_behavior", "rel_error",
+       0.15}};
   return s;
 }
 

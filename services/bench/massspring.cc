@@ -19,7 +19,7 @@
 // per servo tick while pressed, force_n the force felt at the end of the
 // hold.
 //
-// against_fem: a continuum reference (issue 26 item 3). The lattice is a
+// against_fem: a continuum reference. The lattice is a
 // 4 cm cube of 5^3 masses with springs along its edges and both face
 // diagonals, whose elastic constants are those of an isotropic solid of
 // Young's modulus 2.5 k / a and Poisson's ratio 1/4; the corotational FEM

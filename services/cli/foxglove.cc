@@ -6,7 +6,7 @@
 
 #include "services/cli/cli.h"
 #include "services/foxglove/bridge.h"
-#include "services/foxglove/scene.h"
+#include "services/foxglove/panels.h"
 #include "services/runtime/service.h"
 
 namespace hcosim::services::cli {
@@ -22,11 +22,11 @@ struct FoxgloveOptions {
 int serve(const FoxgloveOptions& o) {
   foxglove::keep_freed_memory();
   runtime::install_stop_handlers();
-  adapters::scene::Options scene;
-  std::vector<adapters::scene::Item> items;
+  adapters::foxglove::Options scene;
+  std::vector<adapters::foxglove::Item> items;
   if (!o.deployment.empty()) {
     const runtime::Deployment d = runtime::load_deployment(o.deployment);
-    items = foxglove::scene_items(d), scene.tag_id = foxglove::scene_tag_id(d);
+    items = foxglove::panel_items(d), scene.tag_id = foxglove::marker_id(d);
   }
   runtime::Participant p(o.dds.domain, "hcosim_foxglove", runtime::default_qos_file(), nullptr, false, o.dds.security);
   foxglove::Server server(o.server);

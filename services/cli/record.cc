@@ -8,7 +8,7 @@
 #include <thread>
 
 #include "services/cli/cli.h"
-#include "services/foxglove/scene.h"
+#include "services/foxglove/panels.h"
 #include "services/runtime/recording.h"
 #include "services/runtime/service.h"
 
@@ -39,13 +39,13 @@ int record_topics(const RecordOptions& o) {
       o.format.empty() ? runtime::format_of(o.file) : runtime::parse_recording_format(o.format);
   runtime::Derive derive;
   if (o.scene && format == runtime::RecordingFormat::mcap) {
-    std::vector<adapters::scene::Item> items;
-    adapters::scene::Options scene;
+    std::vector<adapters::foxglove::Item> items;
+    adapters::foxglove::Options scene;
     if (!o.deployment.empty()) {
       const runtime::Deployment d = runtime::load_deployment(o.deployment);
-      items = foxglove::scene_items(d), scene.tag_id = foxglove::scene_tag_id(d);
+      items = foxglove::panel_items(d), scene.tag_id = foxglove::marker_id(d);
     }
-    derive = foxglove::scene_channels(std::move(items), scene);
+    derive = foxglove::panel_channels(std::move(items), scene);
   }
   runtime::Recorder recorder(p, o.file, topics, format, runtime::parse_compression(o.compression), derive);
   const std::int64_t end = duration > 0 ? runtime::mono_ns() + std::int64_t(duration * 1e9) : INT64_MAX;

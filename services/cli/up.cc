@@ -19,7 +19,7 @@
 #include "services/cli/cli.h"
 #include "services/cli/supervisor.h"
 #include "services/cli/watcher.h"
-#include "services/foxglove/scene.h"
+#include "services/foxglove/panels.h"
 #include "services/runtime/participant.h"
 #include "services/runtime/recording.h"
 #include "services/runtime/recordings.h"
@@ -202,11 +202,11 @@ int up(const UpOptions& o) {
       *participant, [](const ServiceStatus& s) { return adapters::validate(s); });
   std::unique_ptr<runtime::Recorder> recorder;
   if (!o.record.empty()) {
-    adapters::scene::Options scene;
-    scene.tag_id = foxglove::scene_tag_id(d);
+    adapters::foxglove::Options scene;
+    scene.tag_id = foxglove::marker_id(d);
     recorder = std::make_unique<runtime::Recorder>(*participant, o.record, std::vector<std::string>{},
                                                    runtime::format_of(o.record), runtime::McapCompression::zstd,
-                                                   foxglove::scene_channels(foxglove::scene_items(d), scene));
+                                                   foxglove::panel_channels(foxglove::panel_items(d), scene));
   }
   // How many hcosim ups this run has, one a host that runs something: a
   // lockstep follower hears them all before its first step, to know every

@@ -40,8 +40,8 @@ bool has_shared_memory(runtime::Participant& p) {
 
 }  // namespace
 
-Bridge::Bridge(runtime::Participant& p, Server& server, std::vector<adapters::scene::Item> items,
-               adapters::scene::Options o)
+Bridge::Bridge(runtime::Participant& p, Server& server, std::vector<adapters::foxglove::Item> items,
+               adapters::foxglove::Options o)
     : server_(server), builder_(std::move(items), o) {
   adapters::vision::load_media();
   // A 640x480 frame gains nothing from OpenCV's thread pool, whose
@@ -79,11 +79,11 @@ Bridge::~Bridge() {
   server_.every_flush(nullptr);
 }
 
-std::uint32_t Bridge::scene_channel(const adapters::scene::ChannelOf& c) {
+std::uint32_t Bridge::scene_channel(const adapters::foxglove::ChannelOf& c) {
   std::lock_guard<std::mutex> l(channels_m_);
   const auto it = scene_channels_.find(c.topic);
   if (it != scene_channels_.end()) return it->second;
-  const std::uint32_t id = server_.advertise({c.topic, "cdr", c.schema, adapters::scene::schema_text(), "omgidl"});
+  const std::uint32_t id = server_.advertise({c.topic, "cdr", c.schema, adapters::foxglove::schema_text(), "omgidl"});
   scene_channels_.emplace(c.topic, id);
   return id;
 }
@@ -100,9 +100,9 @@ void Bridge::take(T& s, std::uint32_t raw) {
   }
   if constexpr (std::is_same_v<T, MeshTopology>) {
     std::lock_guard<std::mutex> l(m_);
-    topologies_.push_back([s](adapters::scene::Builder& b) { return b.on(s); });
+    topologies_.push_back([s](adapters::foxglove::Builder& b) { return b.on(s); });
   } else {
-    const adapters::scene::ChannelOf c = builder_.channel(s);
+    const adapters::foxglove::ChannelOf c = builder_.channel(s);
     if (c.topic.empty()) return;
     const std::uint32_t id = scene_channel(c);
     if (!server_.subscribed(id)) return;
@@ -112,7 +112,7 @@ void Bridge::take(T& s, std::uint32_t raw) {
     std::lock_guard<std::mutex> l(m_);
     auto& slot = pending_[id];
     if (slot.first) ++skipped_;
-    slot = {[taken](adapters::scene::Builder& b) { return b.on(*taken); }, t};
+    slot = {[taken](adapters::foxglove::Builder& b) { return b.on(*taken); }, t};
   }
 }
 
@@ -134,7 +134,7 @@ void Bridge::draw() {
   try {
     for (const Draw& d : topologies) d(builder_);
     for (auto& [id, work] : pending) {
-      for (adapters::scene::Message& m : work.first(builder_)) {
+      for (adapters::foxglove::Message& m : work.first(builder_)) {
         ++drawn_;
         server_.publish(id, work.second, m.cdr);
       }

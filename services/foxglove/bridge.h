@@ -1,6 +1,6 @@
 // A live Foxglove bridge (docs/foxglove.md): every topic of a DDS domain
 // as a channel of its CDR bytes with its OMG IDL schema, and Foxglove's
-// scene channels (adapters/scene/scene.h) drawn from the topics, served
+// scene channels (adapters/foxglove/panels.h) drawn from the topics, served
 // by a Server. Only what a client subscribes to is serialised or drawn.
 //
 // Nothing here slows a DDS writer: the readers are best effort (but the
@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "adapters/scene/scene.h"
+#include "adapters/foxglove/panels.h"
 #include "services/foxglove/server.h"
 #include "services/runtime/endpoint.h"
 #include "services/runtime/participant.h"
@@ -41,7 +41,8 @@ class Bridge {
  public:
   // Advertises the topics at once and each scene channel when its first
   // sample arrives. `server` outlives the bridge.
-  Bridge(runtime::Participant& p, Server& server, std::vector<adapters::scene::Item> items, adapters::scene::Options o);
+  Bridge(runtime::Participant& p, Server& server, std::vector<adapters::foxglove::Item> items,
+         adapters::foxglove::Options o);
   ~Bridge();  // stops the readers, then the drawing
   Bridge(const Bridge&) = delete;
   Bridge& operator=(const Bridge&) = delete;
@@ -52,12 +53,12 @@ class Bridge {
 
  private:
   // One sample to draw, with the time of the messages it gives.
-  using Draw = std::function<std::vector<adapters::scene::Message>(adapters::scene::Builder&)>;
+  using Draw = std::function<std::vector<adapters::foxglove::Message>(adapters::foxglove::Builder&)>;
 
   // Takes `s` over: its bytes go to draw() without a copy.
   template <class T>
   void take(T& s, std::uint32_t raw);
-  std::uint32_t scene_channel(const adapters::scene::ChannelOf& c);
+  std::uint32_t scene_channel(const adapters::foxglove::ChannelOf& c);
   void draw();  // on the server's socket thread
   // After a take on a receiving thread of shared memory: once it has been
   // awake kAwakeNs since it last rested, it rests kRestNs, and what
@@ -73,7 +74,7 @@ class Bridge {
   static constexpr std::int64_t kRestNs = 5'000'000, kAwakeNs = 1'000'000;
 
   Server& server_;
-  adapters::scene::Builder builder_;  // draw()'s, but channel()
+  adapters::foxglove::Builder builder_;  // draw()'s, but channel()
   runtime::Rejections rejections_;
 
   std::mutex channels_m_;

@@ -6,7 +6,7 @@
 #include <cstdio>
 
 #include "services/foxglove/bridge.h"
-#include "services/foxglove/scene.h"
+#include "services/foxglove/panels.h"
 #include "services/runtime/service.h"
 
 using namespace hcosim;
@@ -25,12 +25,12 @@ int main(int argc, char** argv) {
         so.port = c.whole("port", so.port, 0, 65535);
         so.address = c.string("address", so.address);
         so.client_limit_bytes = std::size_t(c.number("client_limit_mb", so.client_limit_bytes / 1e6, 0.01, 1e4) * 1e6);
-        adapters::scene::Options scene;
-        scene.tag_id = foxglove::scene_tag_id(svc.deployment());
+        adapters::foxglove::Options scene;
+        scene.tag_id = foxglove::marker_id(svc.deployment());
         scene.jpeg_quality = c.whole("jpeg_quality", scene.jpeg_quality, 0, 100);
         scene.rate_hz = c.number("scene_rate", scene.rate_hz, 1, 1000);
         foxglove::Server server(so);
-        foxglove::Bridge bridge(svc.participant(), server, foxglove::scene_items(svc.deployment()), scene);
+        foxglove::Bridge bridge(svc.participant(), server, foxglove::panel_items(svc.deployment()), scene);
         const std::string& name = svc.options().name;
         std::printf("%s: serving ws://%s:%d (foxglove.websocket.v1)\n", name.c_str(), server.address().c_str(),
                     server.port());

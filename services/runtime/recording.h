@@ -33,7 +33,7 @@ struct Record {
 };
 
 // A message derived from the topics (Foxglove's scene channels,
-// adapters/scene/scene.h), written to MCAP beside them on its own channel.
+// adapters/foxglove/panels.h), written to MCAP beside them on its own channel.
 struct Derived {
   std::string topic;
   std::string schema_name;        // e.g. "foxglove::SceneUpdate"

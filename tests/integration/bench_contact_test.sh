@@ -1,5 +1,5 @@
 # hcosim bench contact: every kind's row carries the metrics its scene
-# measures, and the goals issue 25 states hold for every kind: the
+# measures, and its goals hold for every kind: the
 # stroke's tangential over normal force at most the friction + 0.02 and in
 # contact throughout, entering between nodes within 5 degrees of the
 # normal, no onset above stiffness x motion, a hold's spread under 2 %,

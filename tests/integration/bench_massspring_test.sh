@@ -26,7 +26,7 @@ for lattice in box216 dome129; do
   [ "$(head -c 8 "$png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] || fail "$png is not a PNG"
 done
 # The elastic surfaces with their hinges come back within 0.1 mm of rest 2 s
-# after release; as membranes the dome stays dented (issue 26 item 1).
+# after release; as membranes the dome stays dented.
 for shape in semisphere sheet; do
   grep -qE "\"name\":\"recovery\",\"params\":\{\"shape\":\"$shape\",\"model\":\"hinges\",[^}]*\},\"metrics\":\{\"off_1s_mm\":$num,\"off_2s_mm\":(0\.0[0-9]*|[0-9.]*e-[0-9]+)," "$f" ||
     fail "no $shape recovery row within 0.1 mm: $(grep -oE "\"shape\":\"$shape\",\"model\":\"hinges\"[^]]{0,300}" "$f" | head -c 400)"

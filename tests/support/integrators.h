@@ -1,4 +1,4 @@
-// The behaviour model's integrators, for tests that run each case over every
+// The behavior model's integrators, for tests that run each case over every
 // one of them (TEST_P suites named ...PerIntegrator, one test per integrator).
 #pragma once
 

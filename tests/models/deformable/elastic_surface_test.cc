@@ -126,7 +126,7 @@ TEST(ElasticSurface, ATipWithARadiusTouchesAtThatDistance) {
   EXPECT_THROW(ElasticSurface{bad}, std::invalid_argument);
 }
 
-// Shape memory (issue 26 item 1): the default scene's dome (2 cm) and
+// Shape memory: the default scene's dome (2 cm) and
 // sheet (4 cm), at their stiffness and at 4 times it, pressed 7 mm for
 // 0.5 s and let go, are back within 0.1 mm of rest (every vertex) 2 s
 // later. A membrane of springs alone stays dented: folding it inward

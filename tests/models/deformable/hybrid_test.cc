@@ -168,7 +168,7 @@ TEST(Hybrid, TheBehaviorModelDoesNotSnapThroughPastOneCell) {
   EXPECT_LT(behavior_static_force(s, top(s), 0.014 * down).z(), behavior_static_force(s, top(s), 0.012 * down).z());
 }
 
-// The force felt agrees with the shape seen (issue 26 item 4), here at
+// The force felt agrees with the shape seen, here at
 // each side's gain point: pressed from 0.5 mm to a quarter of its size
 // below the drawn surface there and held 0.9 s, the hybrid's force is
 // within 15 % of the behavior model's static force for a press of its
@@ -350,7 +350,7 @@ TEST(Hybrid, TheOrganIsTouchedWhereItsSurfaceIsDrawn) {
   }
 }
 
-// An organ from a mesh (issue 26 item 6): a loaf, an ellipsoid of axes
+// An organ from a mesh: a loaf, an ellipsoid of axes
 // 2 : 1.2 : 1 cut flat at a fifth of its height, written in centimetres
 // off the origin, to be scaled to 4 cm and put on the floor.
 models::massspring::TriangleMesh loaf() {
@@ -437,7 +437,7 @@ TEST(HybridShape, AnOrganIsTouchedOnItsDrawnSurfaceAndComesBack) {
   }
 }
 
-// What is seen follows what is felt all over an organ (issue 26 item 4):
+// What is seen follows what is felt all over an organ:
 // the loaf with a stiff lobe at +x, as the default scene's organ has,
 // pressed from above 4 mm past its drawn surface and held at points along
 // it and off its middle, on both sides, at its middle and near its ends.

@@ -1,4 +1,4 @@
-// The behaviour model's simulator. Hard cases: every run stays finite,
+// The behavior model's simulator. Hard cases: every run stays finite,
 // keeps its energy bounded by what was put in, and does what physics says.
 // Adaptive active masses (001 §II.A): only masses with enough energy are
 // simulated; activation spreads from the contact and retires when motion
@@ -189,8 +189,7 @@ TEST_P(MassspringHardCasesPerIntegrator, DuplicateVertices) {
 // every tetrahedron at its rest volume) under the explicit integrators, the
 // hybrid model's. implicit_euler and local_global stay finite and bounded
 // but settle in a tangled minimum (asserted for them, the message read:
-// smallest volume ratio -0.22, springs 52% strained; issue 26 item 2
-// stays open for them). Springs
+// smallest volume ratio -0.22, springs 52% strained). Springs
 // alone bring back the collapsed box, but have no force to undo the mirror
 // image, whose spring lengths are those at rest.
 TEST_P(MassspringHardCasesPerIntegrator, CollapsedAndInvertedBoxRecover) {
@@ -495,7 +494,7 @@ INSTANTIATE_TEST_SUITE_P(, MassspringAdaptivePerIntegrator,
 // The adaptive model converges to the full one as its threshold falls,
 // also when a step has many substeps or is one implicit solve, which move
 // masses many springs away from the last step's active set: the set grows
-// within the step (issue 26 item 5). Before, the error stopped falling at
+// within the step. Before, the error stopped falling at
 // 58 % (symplectic Euler at 1/30 s, 31 substeps), 43 % (implicit Euler at
 // 1/30 s) and 27.5 % (k 5000 at 0.5 ms, 4 substeps).
 class MassspringAdaptiveConvergence : public ::testing::TestWithParam<Integrator> {};

@@ -1,4 +1,4 @@
-#include "services/foxglove/scene.h"
+#include "services/foxglove/panels.h"
 
 #include <memory>
 #include <type_traits>
@@ -7,10 +7,10 @@
 
 namespace hcosim::services::foxglove {
 
-std::vector<adapters::scene::Item> scene_items(const runtime::Deployment& d) {
-  std::vector<adapters::scene::Item> items;
+std::vector<adapters::foxglove::Item> panel_items(const runtime::Deployment& d) {
+  std::vector<adapters::foxglove::Item> items;
   for (const YAML::Node& o : d.scene.objects) {
-    adapters::scene::Item it;
+    adapters::foxglove::Item it;
     it.name = o["name"].Scalar();
     it.kind = o["kind"].Scalar();
     if (it.kind == "rigid") it.size = o["size"] ? o["size"].as<double>() : models::rigid::Body().size;
@@ -19,12 +19,12 @@ std::vector<adapters::scene::Item> scene_items(const runtime::Deployment& d) {
   return items;
 }
 
-int scene_tag_id(const runtime::Deployment& d) {
+int marker_id(const runtime::Deployment& d) {
   return d.scene.marker.IsMap() && d.scene.marker["id"] ? d.scene.marker["id"].as<int>() : 0;
 }
 
-runtime::Derive scene_channels(std::vector<adapters::scene::Item> items, adapters::scene::Options o) {
-  auto builder = std::make_shared<adapters::scene::Builder>(std::move(items), o);
+runtime::Derive panel_channels(std::vector<adapters::foxglove::Item> items, adapters::foxglove::Options o) {
+  auto builder = std::make_shared<adapters::foxglove::Builder>(std::move(items), o);
   return [builder](const runtime::Record& r) {
     std::vector<runtime::Derived> out;
     runtime::with_topic(r.topic, [&](auto tag) {
@@ -34,8 +34,8 @@ runtime::Derive scene_channels(std::vector<adapters::scene::Item> items, adapter
                              std::is_same_v<T, RigidBodyState> || std::is_same_v<T, HapticState> ||
                              std::is_same_v<T, MarkerPose> || std::is_same_v<T, CameraFrame>;
       if constexpr (drawn)
-        for (adapters::scene::Message& m : builder->on(runtime::from_cdr<T>(r.cdr)))
-          out.push_back({std::move(m.topic), m.schema, adapters::scene::schema_text(), std::move(m.cdr)});
+        for (adapters::foxglove::Message& m : builder->on(runtime::from_cdr<T>(r.cdr)))
+          out.push_back({std::move(m.topic), m.schema, adapters::foxglove::schema_text(), std::move(m.cdr)});
     });
     return out;
   };

@@ -1,4 +1,4 @@
-#include "adapters/scene/scene.h"
+#include "adapters/foxglove/panels.h"
 
 #include <stdexcept>
 
@@ -13,13 +13,13 @@
 #include "idl/schemas.h"
 #include "models/render/view.h"
 
-namespace hcosim::adapters::scene {
+namespace hcosim::adapters::foxglove {
 
 namespace {
 
-constexpr const char* kSceneUpdate = "foxglove::SceneUpdate";
-constexpr const char* kFrameTransforms = "foxglove::FrameTransforms";
-constexpr const char* kCompressedImage = "foxglove::CompressedImage";
+constexpr const char* kSceneUpdate = "::foxglove::SceneUpdate";
+constexpr const char* kFrameTransforms = "::foxglove::FrameTransforms";
+constexpr const char* kCompressedImage = "::foxglove::CompressedImage";
 constexpr double kLeastForce = 0.01;  // N: as the AR view, smaller forces draw no arrow
 
 // A message's classic CDR, as a DDS writer would put it on the wire. The
@@ -34,54 +34,54 @@ std::vector<std::uint8_t> cdr(const T& m) {
   return {payload.data, payload.data + payload.length};
 }
 
-foxglove::Time time_of(const StepStamp& s) {
-  foxglove::Time t;
+::foxglove::Time time_of(const StepStamp& s) {
+  ::foxglove::Time t;
   const std::int64_t ns = std::max<std::int64_t>(s.wall_time_ns(), 0);
   t.sec(std::uint32_t(ns / 1000000000));
   t.nsec(std::uint32_t(ns % 1000000000));
   return t;
 }
 
-foxglove::Vector3 vector(const Eigen::Vector3d& v) {
-  foxglove::Vector3 out;
+::foxglove::Vector3 vector(const Eigen::Vector3d& v) {
+  ::foxglove::Vector3 out;
   out.x(v.x()), out.y(v.y()), out.z(v.z());
   return out;
 }
 
-foxglove::Quaternion quaternion(const Eigen::Matrix3d& r) {
+::foxglove::Quaternion quaternion(const Eigen::Matrix3d& r) {
   const Eigen::Quaterniond q(r);
-  foxglove::Quaternion out;
+  ::foxglove::Quaternion out;
   out.x(q.x()), out.y(q.y()), out.z(q.z()), out.w(q.w());
   return out;
 }
 
-foxglove::Pose3 pose(const Eigen::Vector3d& position, const Eigen::Matrix3d& orientation) {
-  foxglove::Pose3 p;
+::foxglove::Pose3 pose(const Eigen::Vector3d& position, const Eigen::Matrix3d& orientation) {
+  ::foxglove::Pose3 p;
   p.position(vector(position));
   p.orientation(quaternion(orientation));
   return p;
 }
 
 // The AR view's colour of the i-th object, BGR 0..255 there, RGB 0..1 here.
-foxglove::ColorRGBA colour(std::size_t i, double alpha = 1) {
+::foxglove::ColorRGBA colour(std::size_t i, double alpha = 1) {
   const cv::Scalar bgr = models::render::object_colour(i);
-  foxglove::ColorRGBA c;
+  ::foxglove::ColorRGBA c;
   c.r(bgr[2] / 255), c.g(bgr[1] / 255), c.b(bgr[0] / 255), c.a(alpha);
   return c;
 }
 
-foxglove::ColorRGBA rgba(double r, double g, double b, double a = 1) {
-  foxglove::ColorRGBA c;
+::foxglove::ColorRGBA rgba(double r, double g, double b, double a = 1) {
+  ::foxglove::ColorRGBA c;
   c.r(r), c.g(g), c.b(b), c.a(a);
   return c;
 }
 
 // A triangle list of `m`, its points `m`'s vertices in the frame of `at`.
-foxglove::TriangleListPrimitive triangles(const models::render::Mesh& m, const foxglove::Pose3& at,
-                                          const foxglove::ColorRGBA& c) {
-  foxglove::TriangleListPrimitive t;
+::foxglove::TriangleListPrimitive triangles(const models::render::Mesh& m, const ::foxglove::Pose3& at,
+                                            const ::foxglove::ColorRGBA& c) {
+  ::foxglove::TriangleListPrimitive t;
   t.pose(at);
-  std::vector<foxglove::Point3>& points = t.points();
+  std::vector<::foxglove::Point3>& points = t.points();
   points.resize(std::size_t(m.vertices.cols()));
   for (std::size_t i = 0; i < points.size(); ++i) {
     const auto v = m.vertices.col(Eigen::Index(i));
@@ -92,18 +92,18 @@ foxglove::TriangleListPrimitive triangles(const models::render::Mesh& m, const f
   return t;
 }
 
-foxglove::SceneEntity entity(const StepStamp& stamp, const std::string& id) {
-  foxglove::SceneEntity e;
+::foxglove::SceneEntity entity(const StepStamp& stamp, const std::string& id) {
+  ::foxglove::SceneEntity e;
   e.timestamp(time_of(stamp));
   e.frame_id("world");
   e.id(id);
   return e;
 }
 
-Message scene_message(const ChannelOf& c, foxglove::SceneEntity e) {
-  foxglove::SceneUpdate u;
+Message scene_message(const ChannelOf& c, ::foxglove::SceneEntity e) {
+  ::foxglove::SceneUpdate u;
   u.entities().push_back(std::move(e));
-  return {c.topic, c.schema, cdr<foxglove::SceneUpdatePubSubType>(u)};
+  return {c.topic, c.schema, cdr<::foxglove::SceneUpdatePubSubType>(u)};
 }
 
 bool drawn_shape(const std::string& shape) { return shape == "cube" || shape == "sphere"; }
@@ -177,7 +177,7 @@ std::vector<Message> Builder::on(const DeformedMesh& m) {
   } catch (const std::invalid_argument&) {
     return ++unmatched_, std::vector<Message>{};
   }
-  foxglove::SceneEntity e = entity(m.stamp(), name);
+  ::foxglove::SceneEntity e = entity(m.stamp(), name);
   e.triangles().push_back(
       triangles(mesh, pose(Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity()), colour(colour_of(name))));
   return {scene_message(channel(m), std::move(e))};
@@ -196,7 +196,7 @@ std::vector<Message> Builder::on(const RigidBodyState& s) {
     body.shape = shape == "cube" ? models::render::cube(size) : models::render::sphere(size);
   }
   const Eigen::Isometry3d at = vision::from_idl(s.pose());
-  foxglove::SceneEntity e = entity(s.stamp(), b->first);
+  ::foxglove::SceneEntity e = entity(s.stamp(), b->first);
   e.triangles().push_back(triangles(body.shape, pose(at.translation(), at.linear()), colour(body.colour)));
   return {scene_message(channel(s), std::move(e))};
 }
@@ -206,15 +206,15 @@ std::vector<Message> Builder::on(const HapticState& s) {
   const models::render::View look;  // the AR view's stylus sizes
   const Eigen::Vector3d tip = device::from_idl(s.position());
   const Eigen::Matrix3d r = vision::from_idl(s.orientation());
-  foxglove::SceneEntity e = entity(s.stamp(), "stylus");
+  ::foxglove::SceneEntity e = entity(s.stamp(), "stylus");
   // The pen runs along +z from the tip; a cylinder's pose is its centre.
-  foxglove::CylinderPrimitive pen;
+  ::foxglove::CylinderPrimitive pen;
   pen.pose(pose(tip + r * Eigen::Vector3d(0, 0, look.stylus_length / 2), r));
   pen.size(vector({2 * look.stylus_radius, 2 * look.stylus_radius, look.stylus_length}));
   pen.bottom_scale(1), pen.top_scale(1);
   pen.color(rgba(0.85, 0.85, 0.85));
   e.cylinders().push_back(pen);
-  foxglove::SpherePrimitive ball;
+  ::foxglove::SpherePrimitive ball;
   ball.pose(pose(tip, r));
   ball.size(vector(Eigen::Vector3d::Constant(3 * look.stylus_radius)));
   ball.color(rgba(1, 0.85, 0.2));
@@ -223,7 +223,7 @@ std::vector<Message> Builder::on(const HapticState& s) {
   if (f.norm() >= kLeastForce && options_.force_scale > 0) {
     // An arrow points along its +x: the rotation taking x to the force.
     const double length = options_.force_scale * f.norm();
-    foxglove::ArrowPrimitive a;
+    ::foxglove::ArrowPrimitive a;
     a.pose(pose(tip, Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitX(), f).toRotationMatrix()));
     a.head_length(std::min(0.3 * length, 0.006));
     a.shaft_length(length - a.head_length());
@@ -241,26 +241,26 @@ std::vector<Message> Builder::on(const MarkerPose& p) {
   // The topic gives the tag in the camera; the tree wants the camera in the
   // world, which is the tag's frame.
   const Eigen::Isometry3d camera_in_world = vision::from_idl(p.tag_in_camera()).inverse();
-  foxglove::FrameTransform t;
+  ::foxglove::FrameTransform t;
   t.timestamp(time_of(p.stamp()));
   t.parent_frame_id("world");
   t.child_frame_id(p.camera().to_string());
   t.translation(vector(camera_in_world.translation()));
   t.rotation(quaternion(camera_in_world.linear()));
-  foxglove::FrameTransforms all;
+  ::foxglove::FrameTransforms all;
   all.transforms().push_back(t);
-  return {{c.topic, c.schema, cdr<foxglove::FrameTransformsPubSubType>(all)}};
+  return {{c.topic, c.schema, cdr<::foxglove::FrameTransformsPubSubType>(all)}};
 }
 
 std::vector<Message> Builder::on(const CameraFrame& f) {
-  foxglove::CompressedImage image;
+  ::foxglove::CompressedImage image;
   image.timestamp(time_of(f.stamp()));
   image.frame_id(f.camera().to_string());
   const std::vector<unsigned char> jpeg = vision::encode_jpeg(vision::pixels(f), options_.jpeg_quality);
   image.data().assign(jpeg.begin(), jpeg.end());
   image.format("jpeg");
   const ChannelOf c = channel(f);
-  return {{c.topic, c.schema, cdr<foxglove::CompressedImagePubSubType>(image)}};
+  return {{c.topic, c.schema, cdr<::foxglove::CompressedImagePubSubType>(image)}};
 }
 
-}  // namespace hcosim::adapters::scene
+}  // namespace hcosim::adapters::foxglove

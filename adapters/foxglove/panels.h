@@ -1,8 +1,8 @@
 // hcosim's topics as Foxglove's panels draw them (docs/foxglove.md): each
-// object's surface a foxglove::SceneUpdate holding one triangle list, the
+// object's surface a ::foxglove::SceneUpdate holding one triangle list, the
 // stylus with the force it renders as an arrow, the camera's pose from the
-// marker it tracks as foxglove::FrameTransforms, and its frames as
-// foxglove::CompressedImage (JPEG). Every message is classic CDR of the
+// marker it tracks as ::foxglove::FrameTransforms, and its frames as
+// ::foxglove::CompressedImage (JPEG). Every message is classic CDR of the
 // schemas in idl/foxglove.idl, which Foxglove decodes with their OMG IDL.
 #pragma once
 
@@ -17,12 +17,12 @@
 #include "idl/vision.h"
 #include "models/render/shapes.h"
 
-namespace hcosim::adapters::scene {
+namespace hcosim::adapters::foxglove {
 
 // One message of a Foxglove channel.
 struct Message {
   std::string topic;              // "scene/organ", "scene/stylus", "tf", "image/cam"
-  const char* schema = "";        // its schema's scoped name, e.g. "foxglove::SceneUpdate"
+  const char* schema = "";        // its schema's scoped name, e.g. "::foxglove::SceneUpdate"
   std::vector<std::uint8_t> cdr;  // encapsulation header first
 };
 
@@ -114,4 +114,4 @@ class Builder {
   std::uint64_t unmatched_ = 0;
 };
 
-}  // namespace hcosim::adapters::scene
+}  // namespace hcosim::adapters::foxglove

@@ -7,12 +7,12 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
-#include "adapters/scene/scene.h"
+#include "adapters/foxglove/panels.h"
 #include "adapters/vision/vision_idl.h"
 #include "idl/foxglove.h"
 #include "idl/foxglovePubSubTypes.h"
 
-namespace hcosim::adapters::scene {
+namespace hcosim::adapters::foxglove {
 namespace {
 
 template <class PubSub, class T>
@@ -26,9 +26,9 @@ T read(const Message& m) {
   return out;
 }
 
-foxglove::SceneUpdate update(const Message& m) {
-  EXPECT_STREQ(m.schema, "foxglove::SceneUpdate");
-  return read<foxglove::SceneUpdatePubSubType, foxglove::SceneUpdate>(m);
+::foxglove::SceneUpdate update(const Message& m) {
+  EXPECT_STREQ(m.schema, "::foxglove::SceneUpdate");
+  return read<::foxglove::SceneUpdatePubSubType, ::foxglove::SceneUpdate>(m);
 }
 
 StepStamp stamp(std::int64_t sim_ns) {
@@ -39,7 +39,7 @@ StepStamp stamp(std::int64_t sim_ns) {
   return s;
 }
 
-TEST(Scene, AMeshIsItsVerticesAndTrianglesOnceItsTopologyIsKnown) {
+TEST(Panels, AMeshIsItsVerticesAndTrianglesOnceItsTopologyIsKnown) {
   Builder b({{"sheet", "deformable", 0}});
   DeformedMesh m;
   m.mesh("sheet");
@@ -57,15 +57,15 @@ TEST(Scene, AMeshIsItsVerticesAndTrianglesOnceItsTopologyIsKnown) {
   const std::vector<Message> out = b.on(m);
   ASSERT_EQ(out.size(), 1u);
   EXPECT_EQ(out[0].topic, "scene/sheet");
-  const foxglove::SceneUpdate u = update(out[0]);
+  const ::foxglove::SceneUpdate u = update(out[0]);
   ASSERT_EQ(u.entities().size(), 1u);
-  const foxglove::SceneEntity& e = u.entities()[0];
+  const ::foxglove::SceneEntity& e = u.entities()[0];
   EXPECT_EQ(e.id(), "sheet");
   EXPECT_EQ(e.frame_id(), "world");
   EXPECT_EQ(e.timestamp().sec(), 1700000000u);
   EXPECT_EQ(e.timestamp().nsec(), 123456789u);
   ASSERT_EQ(e.triangles().size(), 1u);
-  const foxglove::TriangleListPrimitive& tl = e.triangles()[0];
+  const ::foxglove::TriangleListPrimitive& tl = e.triangles()[0];
   ASSERT_EQ(tl.points().size(), 4u);
   EXPECT_EQ(tl.points()[2].y(), double(0.02f));
   EXPECT_EQ(tl.points()[2].z(), double(0.005f));
@@ -77,7 +77,7 @@ TEST(Scene, AMeshIsItsVerticesAndTrianglesOnceItsTopologyIsKnown) {
   EXPECT_EQ(b.unmatched(), 2u);
 }
 
-TEST(Scene, ARigidBodyStandsAtItsPoseAtTheSceneRate) {
+TEST(Panels, ARigidBodyStandsAtItsPoseAtTheSceneRate) {
   Builder b({{"box", "rigid", 0.01}}, Options{});
   RigidBodyState s;
   s.body("box");
@@ -91,8 +91,8 @@ TEST(Scene, ARigidBodyStandsAtItsPoseAtTheSceneRate) {
     s.stamp(stamp(std::int64_t(ms) * 1000000));
     for (const Message& m : b.on(s)) {
       ++shown;
-      const foxglove::SceneUpdate u = update(m);
-      const foxglove::TriangleListPrimitive& t = u.entities()[0].triangles()[0];
+      const ::foxglove::SceneUpdate u = update(m);
+      const ::foxglove::TriangleListPrimitive& t = u.entities()[0].triangles()[0];
       EXPECT_EQ(t.points().size(), 24u);  // the AR view's cube: flat faces
       EXPECT_DOUBLE_EQ(t.pose().position().x(), 0.1);
       EXPECT_NEAR(t.pose().orientation().z(), std::sin(0.25), 1e-12);
@@ -105,7 +105,7 @@ TEST(Scene, ARigidBodyStandsAtItsPoseAtTheSceneRate) {
   EXPECT_TRUE(b.on(s).empty());
 }
 
-TEST(Scene, TheStylusShowsItsForceAsAnArrowAlongIt) {
+TEST(Panels, TheStylusShowsItsForceAsAnArrowAlongIt) {
   Options o;
   o.force_scale = 0.02;
   Builder b({}, o);
@@ -118,12 +118,12 @@ TEST(Scene, TheStylusShowsItsForceAsAnArrowAlongIt) {
   const std::vector<Message> out = b.on(h);
   ASSERT_EQ(out.size(), 1u);
   EXPECT_EQ(out[0].topic, "scene/stylus");
-  const foxglove::SceneEntity e = update(out[0]).entities()[0];
+  const ::foxglove::SceneEntity e = update(out[0]).entities()[0];
   ASSERT_EQ(e.arrows().size(), 1u);
-  const foxglove::ArrowPrimitive& a = e.arrows()[0];
+  const ::foxglove::ArrowPrimitive& a = e.arrows()[0];
   EXPECT_NEAR(a.shaft_length() + a.head_length(), 0.02, 1e-12);
   EXPECT_DOUBLE_EQ(a.pose().position().z(), 0.03);
-  const foxglove::Quaternion& q = a.pose().orientation();
+  const ::foxglove::Quaternion& q = a.pose().orientation();
   const Eigen::Vector3d along = Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z()) * Eigen::Vector3d::UnitX();
   EXPECT_NEAR(along.y(), 0.6, 1e-12);
   EXPECT_NEAR(along.z(), 0.8, 1e-12);
@@ -139,7 +139,7 @@ TEST(Scene, TheStylusShowsItsForceAsAnArrowAlongIt) {
   EXPECT_TRUE(update(next[0]).entities()[0].arrows().empty());
 }
 
-TEST(Scene, TheCameraSitsWhereTheMarkerSeenFromItSays) {
+TEST(Panels, TheCameraSitsWhereTheMarkerSeenFromItSays) {
   Builder b({});
   MarkerPose p;
   p.camera("cam");
@@ -152,10 +152,10 @@ TEST(Scene, TheCameraSitsWhereTheMarkerSeenFromItSays) {
   const std::vector<Message> out = b.on(p);
   ASSERT_EQ(out.size(), 1u);
   EXPECT_EQ(out[0].topic, "tf");
-  EXPECT_STREQ(out[0].schema, "foxglove::FrameTransforms");
-  const auto tf = read<foxglove::FrameTransformsPubSubType, foxglove::FrameTransforms>(out[0]);
+  EXPECT_STREQ(out[0].schema, "::foxglove::FrameTransforms");
+  const auto tf = read<::foxglove::FrameTransformsPubSubType, ::foxglove::FrameTransforms>(out[0]);
   ASSERT_EQ(tf.transforms().size(), 1u);
-  const foxglove::FrameTransform& t = tf.transforms()[0];
+  const ::foxglove::FrameTransform& t = tf.transforms()[0];
   EXPECT_EQ(t.parent_frame_id(), "world");
   EXPECT_EQ(t.child_frame_id(), "cam");
   // Facing the tag from 30 cm: the camera is 30 cm above it, in the world.
@@ -165,7 +165,7 @@ TEST(Scene, TheCameraSitsWhereTheMarkerSeenFromItSays) {
   EXPECT_TRUE(b.on(p).empty());
 }
 
-TEST(Scene, ACameraFrameIsAJpegOfItsPixels) {
+TEST(Panels, ACameraFrameIsAJpegOfItsPixels) {
   Builder b({});
   CameraFrame f;
   f.camera("cam");
@@ -179,7 +179,7 @@ TEST(Scene, ACameraFrameIsAJpegOfItsPixels) {
   const std::vector<Message> out = b.on(f);
   ASSERT_EQ(out.size(), 1u);
   EXPECT_EQ(out[0].topic, "image/cam");
-  const auto image = read<foxglove::CompressedImagePubSubType, foxglove::CompressedImage>(out[0]);
+  const auto image = read<::foxglove::CompressedImagePubSubType, ::foxglove::CompressedImage>(out[0]);
   EXPECT_EQ(image.format(), "jpeg");
   EXPECT_EQ(image.frame_id(), "cam");
   const cv::Mat back = cv::imdecode(image.data(), cv::IMREAD_COLOR);
@@ -189,7 +189,7 @@ TEST(Scene, ACameraFrameIsAJpegOfItsPixels) {
   EXPECT_NEAR(centre[0], 40, 8);
 }
 
-TEST(Scene, BadOptionsAndUnsizedBodiesAreRefused) {
+TEST(Panels, BadOptionsAndUnsizedBodiesAreRefused) {
   Options o;
   o.rate_hz = 0;
   EXPECT_THROW(Builder({}, o), std::invalid_argument);
@@ -199,7 +199,7 @@ TEST(Scene, BadOptionsAndUnsizedBodiesAreRefused) {
   EXPECT_THROW(Builder({{"box", "rigid", 0}}), std::invalid_argument);
 }
 
-TEST(Scene, TheSchemaTextDeclaresEveryRootType) {
+TEST(Panels, TheSchemaTextDeclaresEveryRootType) {
   const std::string text = schema_text();
   for (const char* root : {"struct SceneUpdate {", "struct FrameTransforms {", "struct CompressedImage {"})
     EXPECT_NE(text.find(root), std::string::npos) << root;
@@ -207,4 +207,4 @@ TEST(Scene, TheSchemaTextDeclaresEveryRootType) {
 }
 
 }  // namespace
-}  // namespace hcosim::adapters::scene
+}  // namespace hcosim::adapters::foxglove
