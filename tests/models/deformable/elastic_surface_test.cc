@@ -163,7 +163,9 @@ TEST_P(ElasticSurfacePerIntegrator, PressedAndReleasedItRecoversItsRestShape) {
 // the hinges' bound asks for, stay finite and still recover; implicit_euler
 // needs none. The 12-ring dome's near-equal triangles keep that count low,
 // where the same rings as a UV sphere (84 masses on each) need thousands.
-TEST_P(ElasticSurfacePerIntegrator, StiffHingesTakeTheirSubstepsAndStayStable) {
+class ElasticSurfaceHingesPerIntegrator : public ::testing::TestWithParam<models::massspring::Integrator> {};
+
+TEST_P(ElasticSurfaceHingesPerIntegrator, StiffHingesTakeTheirSubstepsAndStayStable) {
   SurfaceSpec s;
   s.shape = Shape::semisphere;
   s.size = 0.02;
@@ -213,7 +215,7 @@ TEST(ElasticSurface, TheDomesNearEqualTrianglesKeepItsHingesCheap) {
 // coupling at 5 times the springs' k, as the service sets it, pressed 4 mm
 // and held, push back at least 0.85 of what they do through a coupling
 // 50 times stiffer. Prints the ratios (docs/deformable.md).
-TEST(ElasticSurface, TheCouplingLeavesTheSurfacesForce) {
+TEST(ElasticSurfaceSlow, TheCouplingLeavesTheSurfacesForce) {
   for (const Shape shape : {Shape::sheet, Shape::semisphere})
     for (const double stiffer : {1.0, 4.0}) {
       auto held = [&](double coupling) {
@@ -365,7 +367,15 @@ TEST_P(SurfaceContact, AHoldIsSteady) {
 
 INSTANTIATE_TEST_SUITE_P(, SurfaceContact, ::testing::ValuesIn(kCases), [](const auto& p) { return p.param.name; });
 
-INSTANTIATE_TEST_SUITE_P(Integrators, ElasticSurfacePerIntegrator, ::testing::ValuesIn(tests::kIntegrators),
+INSTANTIATE_TEST_SUITE_P(Integrators, ElasticSurfacePerIntegrator,
+                         ::testing::Values(models::massspring::Integrator::symplectic_euler), tests::integrator_name);
+INSTANTIATE_TEST_SUITE_P(Slow, ElasticSurfacePerIntegrator,
+                         ::testing::Values(models::massspring::Integrator::velocity_verlet,
+                                           models::massspring::Integrator::rk4,
+                                           models::massspring::Integrator::implicit_euler,
+                                           models::massspring::Integrator::local_global),
+                         tests::integrator_name);
+INSTANTIATE_TEST_SUITE_P(Slow, ElasticSurfaceHingesPerIntegrator, ::testing::ValuesIn(tests::kIntegrators),
                          tests::integrator_name);
 
 }  // namespace

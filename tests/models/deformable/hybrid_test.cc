@@ -97,11 +97,11 @@ TEST_P(HybridVisualMap, SeedVisualMeshFollowsAffineCageMotions) {
   EXPECT_LT((apply(h.map(), x) - expect).cwiseAbs().maxCoeff(), m == VisualMap::mvc_sparse ? 2e-4 : 1e-7);
 }
 
-INSTANTIATE_TEST_SUITE_P(, HybridVisualMap,
-                         ::testing::Values(VisualMap::mvc, VisualMap::mvc_sparse, VisualMap::trilinear),
-                         [](const ::testing::TestParamInfo<VisualMap>& i) { return std::string(name(i.param)); });
+std::string map_name(const ::testing::TestParamInfo<VisualMap>& i) { return name(i.param); }
+INSTANTIATE_TEST_SUITE_P(, HybridVisualMap, ::testing::Values(VisualMap::mvc_sparse), map_name);
+INSTANTIATE_TEST_SUITE_P(Slow, HybridVisualMap, ::testing::Values(VisualMap::mvc, VisualMap::trilinear), map_name);
 
-TEST(Hybrid, ReleaseReturnsToTheRestShape) {
+TEST(HybridSlow, ReleaseReturnsToTheRestShape) {
   HybridSpec s;
   Hybrid h(s);
   const Touch t = press(h, top(s), 0.005);
@@ -121,7 +121,7 @@ HybridSpec quick() {
   return s;
 }
 
-TEST(Hybrid, ForceGrowsMonotonicallyWithDepth) {
+TEST(HybridSlow, ForceGrowsMonotonicallyWithDepth) {
   const HybridSpec s = quick();
   double last = 0;
   for (double depth = 0.001; depth <= 0.02; depth += 0.00125) {
@@ -134,7 +134,7 @@ TEST(Hybrid, ForceGrowsMonotonicallyWithDepth) {
   }
 }
 
-TEST(Hybrid, StifferSidePushesBackHarderInBothModels) {  // 001 Fig 8
+TEST(HybridSlow, StifferSidePushesBackHarderInBothModels) {  // 001 Fig 8
   HybridSpec s = quick();
   s.stiff_ratio = 4;
   Hybrid soft(s), hard(s);
@@ -153,7 +153,7 @@ TEST(Hybrid, StifferSidePushesBackHarderInBothModels) {  // 001 Fig 8
 // (volume 0) it dropped from 0.68 N at 12 mm to 0.48 N at 14 mm, where the
 // floors give 0.89 and 1.13 N. They leave the springs alone below the
 // floor: at 4 mm both give the same force.
-TEST(Hybrid, TheBehaviorModelDoesNotSnapThroughPastOneCell) {
+TEST(HybridSlow, TheBehaviorModelDoesNotSnapThroughPastOneCell) {
   HybridSpec s = quick();
   const Eigen::Vector3d down(0, 0, -1);
   double last = 0;
@@ -181,7 +181,7 @@ TEST(Hybrid, TheBehaviorModelDoesNotSnapThroughPastOneCell) {
 // (WhatIsSeenFollowsWhatIsFeltAllOverAnOrgan). The S-Chain alone, fitted
 // on 1 to 5 mm, pushes 8.7 to 15.7 times harder by 25 mm (bench hybrid,
 // force_vs_behavior).
-TEST(Hybrid, ForceFeltAgreesWithTheBehaviorModelToAQuarterOfItsSize) {
+TEST(HybridSlow, ForceFeltAgreesWithTheBehaviorModelToAQuarterOfItsSize) {
   HybridSpec s = quick();
   s.stiff_ratio = 4;
   const std::vector<double> depths{0.0005, 0.00075, 0.0015, 0.0035, 0.007, 0.011, 0.015, 0.019, 0.023, 0.025};
@@ -212,7 +212,7 @@ TEST(Hybrid, ForceFeltAgreesWithTheBehaviorModelToAQuarterOfItsSize) {
 // The behavior model's force for a press of its drawn surface along a
 // direction is its force for a press along the normal where that
 // direction is the inward normal, and differs from it along another.
-TEST(Hybrid, ASurfacePressAlongTheNormalIsTheNormalPress) {
+TEST(HybridSlow, ASurfacePressAlongTheNormalIsTheNormalPress) {
   const HybridSpec s = quick();
   const Hybrid h(s);
   const Eigen::Vector3d at = h.gain_point(false), down(0, 0, -1), slant = Eigen::Vector3d(1, 0, -2).normalized();
@@ -332,7 +332,7 @@ Eigen::Vector3d direction(int k, int of) {
 // drawn as well), coming in at 0.05 mm a tick: contact begins within
 // 0.5 mm of the drawn surface (of it grown by the tip's radius, for a tip
 // of 2 mm), never at the cage's box.
-TEST(Hybrid, TheOrganIsTouchedWhereItsSurfaceIsDrawn) {
+TEST(HybridSlow, TheOrganIsTouchedWhereItsSurfaceIsDrawn) {
   for (const double tip : {0.0, 0.002}) {
     HybridSpec s = organ();
     s.tip_radius = tip;
@@ -448,7 +448,7 @@ TEST(HybridShape, AnOrganIsTouchedOnItsDrawnSurfaceAndComesBack) {
 // and 0.68 at two points). And the force felt along the stylus's press is
 // the behavior model's static force for that press within 15 % (0.995 to
 // 1.061 here; without follow(), 0.63 to 1.69, five points out).
-TEST(HybridShape, WhatIsSeenFollowsWhatIsFeltAllOverAnOrgan) {
+TEST(HybridShapeSlow, WhatIsSeenFollowsWhatIsFeltAllOverAnOrgan) {
   HybridSpec s = loaf_spec();
   s.stiff_ratio = 4;
   for (const Eigen::Vector2d& p :
@@ -491,7 +491,7 @@ TEST(HybridShape, WhatIsSeenFollowsWhatIsFeltAllOverAnOrgan) {
 // while held), and, let go slowly, the force tapers off as the stylus
 // comes out rather than dropping when contact ends (at most 5 % of its
 // peak at the last tick of contact).
-TEST(HybridShape, APressGivesBackNoMoreWorkThanItTook) {
+TEST(HybridShapeSlow, APressGivesBackNoMoreWorkThanItTook) {
   HybridSpec s = loaf_spec();
   s.stiff_ratio = 4;
   for (const Eigen::Vector2d& p : {Eigen::Vector2d(-0.01, 0.006), Eigen::Vector2d(0, 0), Eigen::Vector2d(0.01, 0)}) {
@@ -550,7 +550,7 @@ TEST(HybridShape, AShapeWithoutAFloorOrOpenIsRefusedByName) {
 // above the dynamic one, no more than the static one (the chains' force is
 // not linear in the offset, so a slip can end inside the dynamic cone and
 // stick again: stick-slip, as a real stroke may).
-TEST(Hybrid, AStrokeFeelsItsFrictionAndNoMore) {
+TEST(HybridSlow, AStrokeFeelsItsFrictionAndNoMore) {
   for (const haptic::Friction f : {haptic::Friction{0.3, 0.3}, haptic::Friction{0, 0}, haptic::Friction{0.5, 0.3}})
     for (const double side : {-1.0, 1.0}) {
       HybridSpec s = quick();
@@ -597,7 +597,7 @@ TEST(Hybrid, EnteringBetweenNodesIsFeltAlongTheNormal) {
 // the first tick of contact is no harder than the stiffest chain times its
 // motion; a press held on the organ's stiff side is steady (spread under
 // 2 % over 0.5 s).
-TEST(Hybrid, TheForceFeltIsTheLoadTakenStartsWithoutAKickAndHoldsSteady) {
+TEST(HybridSlow, TheForceFeltIsTheLoadTakenStartsWithoutAKickAndHoldsSteady) {
   const HybridSpec s = organ();
   Hybrid h(s);
   const Eigen::Vector3d above = s.centre + Eigen::Vector3d(0.006, 0.002, 0.5 * s.size + 0.002);
@@ -630,7 +630,7 @@ TEST(Hybrid, TheForceFeltIsTheLoadTakenStartsWithoutAKickAndHoldsSteady) {
 // A device's encoder moves the HIP in steps (the Omni's 0.055 mm): the
 // organ's stiff side pressed at 2.75 cm/s in a step every other tick stays
 // touched from its first tick and its force never falls between ticks.
-TEST(Hybrid, AStepwiseHipPressesWithoutChatter) {
+TEST(HybridSlow, AStepwiseHipPressesWithoutChatter) {
   const HybridSpec s = organ();
   Hybrid h(s);
   const Eigen::Vector3d above = s.centre + Eigen::Vector3d(0.006, 0.002, 0.5 * s.size + 0.002);
@@ -652,7 +652,7 @@ TEST(Hybrid, AStepwiseHipPressesWithoutChatter) {
 
 // Pushed in one tick from above the top to the cube's centre, then held
 // there for a simulated minute.
-TEST(Hybrid, MinuteLongContactAtTheCentreStaysFinite) {
+TEST(HybridSlow, MinuteLongContactAtTheCentreStaysFinite) {
   const HybridSpec s = quick();
   Hybrid h(s);
   h.touch(1e-3, s.centre + Eigen::Vector3d(0.001, 0.002, 0.6 * s.size), false);
