@@ -9,7 +9,8 @@
 #   share one; a service's main.cc may open none;
 # - unit tests mirror the sources: tests/LAYER/AREA/NAME_test.cc tests
 #   LAYER/AREA/NAME.h (or .cc) and opens the namespaces of that path;
-#   tests/support/ opens hcosim::tests.
+#   tests/support/ opens hcosim::tests;
+# - no source in models/ is over 500 lines: one area per file.
 set(bad "")
 set(count 0)
 foreach(layer models adapters services tests)
@@ -30,6 +31,12 @@ foreach(layer models adapters services tests)
       endif()
     endforeach()
     if(layer STREQUAL "models")
+      file(READ "${ROOT}/${f}" text)
+      string(REGEX MATCHALL "\n" newlines "${text}")
+      list(LENGTH newlines lines)
+      if(lines GREATER 500)
+        list(APPEND bad "${f}: ${lines} lines (a file in models/ holds one area: at most 500)")
+      endif()
       file(STRINGS "${ROOT}/${f}" dds REGEX "#include *[<\"](fastdds|fastrtps|fastcdr|dds/|idl/)")
       if(dds)
         list(APPEND bad "${f}: a DDS header in models/: ${dds}")

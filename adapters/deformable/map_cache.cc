@@ -150,7 +150,7 @@ void write_gain(const fs::path& path, const models::deformable::ForceGain& g) {
 models::deformable::GainSource gain_cache(const std::string& dir) {
   return [dir](const models::deformable::HybridSpec& s, const models::deformable::Weights& map) {
     Hash h;
-    for (const double v : models::deformable::gain_inputs(s)) h.value(v);
+    for (const double v : models::deformable::gain_key(s)) h.value(v);
     char name[40];
     std::snprintf(name, sizeof name, "gain-%016llx.bin", static_cast<unsigned long long>(h.h));
     const fs::path path = fs::path(dir) / name;

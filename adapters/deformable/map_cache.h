@@ -20,7 +20,7 @@ models::deformable::MapSource map_cache(const std::string& dir, const models::de
 
 // A GainSource that keeps models::deformable::force_gain (seconds to
 // compute) in DIR/gain-KEY.bin the same way, KEY a hash of
-// gain_inputs(spec).
+// gain_key(spec).
 models::deformable::GainSource gain_cache(const std::string& dir);
 
 }  // namespace hcosim::adapters::deformable

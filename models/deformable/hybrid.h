@@ -10,10 +10,12 @@
 #pragma once
 
 #include <cstdint>
-#include <functional>
 #include <memory>
 #include <vector>
 
+#include "models/deformable/force_gain.h"
+#include "models/deformable/hybrid_build.h"
+#include "models/deformable/hybrid_spec.h"
 #include "models/deformable/mvc.h"
 #include "models/deformable/object.h"
 #include "models/deformable/proxy.h"
@@ -26,180 +28,12 @@
 
 namespace hcosim::models::deformable {
 
-// How the visual mesh follows the behavior lattice: mean value coordinates
-// on the lattice's boundary (dense, or truncated to `keep` of each row's
-// weight), or trilinear embedding in the whole lattice.
-enum class VisualMap { mvc, mvc_sparse, trilinear };
-const char* name(VisualMap map);
-VisualMap parse_visual_map(const std::string& name);  // throws std::invalid_argument listing the names
-
-// The behavior model: 001 §II.A's mass-spring lattice, a corotational
-// FEM of a material (models/fem) on the same nodes, or
-// that FEM's lowest modes about rest (models/fem/modal.h).
-enum class BehaviorModel { springs, fem, modal };
-const char* name(BehaviorModel model);
-BehaviorModel parse_behavior_model(const std::string& name);  // throws std::invalid_argument listing the names
-
-struct HybridSpec {
-  int elements = 10;                                     // chains and masses per edge (10: 001 Fig 7's 1000)
-  double size = 0.1;                                     // m, the cube's edge, or the shape box's longest side
-  Eigen::Vector3d centre = Eigen::Vector3d(0, 0, 0.05);  // m, world: the cube's or the shape box's centre
-  // Empty: a cube. Otherwise a closed, outward-facing triangle mesh in any
-  // unit and place, scaled so that its box's longest side is `size` and
-  // moved so that its box's centre is `centre`: it is the visual mesh, and
-  // the lattices fill the cells of size / (elements - 1) whose centres lie
-  // inside it (massspring::voxelise). Either body rests on its lowest layer
-  // of nodes, anchored: a shape needs a flat underside.
-  models::massspring::TriangleMesh shape;
-  // Haptic model: K and ranges fitted to the behavior model's static force
-  // over 1 to 5 mm of depth (docs/deformable.md, force_vs_behavior).
-  ChainMaterial chain{35, 0.3, 0.3, 0.6};
-  double relax_rate = 50;                                       // 1/s, S-Chain relaxation
-  double limit_stiffness = 1000;                                // N/m, past full compression
-  models::massspring::Material material{1e-3, 50, 0.02, 0.01};  // behavior model, per mass and spring
-  models::massspring::Options behavior = [] {
-    models::massspring::Options o;
-    o.integrator = models::massspring::Integrator::symplectic_euler;
-    o.threshold = 1e-10;  // J: low enough that release returns to rest (hybrid_test)
-    return o;
-  }();
-  // 001 Fig 8: the +x half is `stiff_ratio` times stiffer, in both models
-  // (chain K times the ratio and its ranges divided by it; spring k times it).
-  double stiff_ratio = 1;
-  // Volume floors under the behavior lattice's tetrahedra (five to a cell,
-  // models/massspring/quartet.h): below `volume_floor` of its rest volume
-  // a tetrahedron resists with a bulk modulus of `volume` times the
-  // springs' k over the lattice spacing (times stiff_ratio on the stiff
-  // side), so that a collapsed or inverted cell comes back and a press does
-  // not punch a mass through the layer below; above the floor the springs
-  // act alone, as 001 §II.A has them. volume 0: no floors.
-  double volume = 10;
-  double volume_floor = 0.5;
-  // With BehaviorModel::fem, the corotational FEM of `fem` on the lattice's
-  // nodes, five tetrahedra to a cell (Young's modulus times stiff_ratio in
-  // those whose four corners are on the stiff side), stepped by implicit
-  // Euler at behavior.dt: `material`, the volume floors and the behavior
-  // options' integrator and threshold then do not apply (corotated
-  // elements resist collapse and inversion themselves). The default
-  // material is soft tissue's order: 10 kPa, Poisson 0.3, 1000 kg/m^3,
-  // mass damping 10/s.
-  BehaviorModel behavior_model = BehaviorModel::springs;
-  models::fem::Material fem{10e3, 0.3, 1000, 10, 0};
-  // With BehaviorModel::modal, the lowest `modes` of that FEM linearised
-  // at rest, each stepped exactly at behavior.dt (stable at any rate, the
-  // cheapest per step; small strains only: no recovery from inversion).
-  // Its eigensolve is dense, once, when the object is built: the
-  // lattice's free nodes at most fem::Modal::kMaxDofs / 3 (the seed's
-  // cube's 900 take about half a minute).
-  int modes = 32;
-  int visual_subdivisions = 30;           // the cube's: 6 s^2 + 2 vertices, 12 s^2 triangles (30: 5402 and 10800)
-  double visual_exponent = 8;             // rounding of the visual cube's edges (rounded_box)
-  VisualMap map = VisualMap::mvc_sparse;  // a shape's: mvc or mvc_sparse
-  double keep = 0.999;                    // mvc_sparse: share of each row's weight kept
-  // m: cage motions below this are not mapped (apply_moved); 10 um is a
-  // hundredth of a pixel for a 600 px focal length at 0.5 m.
-  double visual_tolerance = 1e-5;
-  haptic::Friction friction;  // the stylus on the surface
-  double tip_radius = 0;      // m, >= 0: the stylus tip's; its centre touches the surface grown by it
-};
-
-// Throws std::invalid_argument naming the first bad field (a shape's
-// problems among them: not closed, no flat underside).
-void check(const HybridSpec& spec);
-
-// The body at rest: its box (m, world), its visual mesh (the rounded cube,
-// or the placed shape), and the cells its lattices stand on.
-Eigen::AlignedBox3d rest_box(const HybridSpec& spec);
-models::massspring::TriangleMesh hybrid_visual(const HybridSpec& spec);
-models::massspring::Voxels hybrid_voxels(const HybridSpec& spec);
-
-// The chain lattice (an element at every node of the cells' grid, present
-// where a mass is) and the behavior lattice of `spec` (masses numbered as
-// Voxels::masses: for the cube, element e of one is mass e of the other).
-ChainLattice hybrid_chains(const HybridSpec& spec);
-models::massspring::Lattice hybrid_masses(const HybridSpec& spec);
-// The FEM behavior model's mesh: the lattice's nodes and anchors, five
-// tetrahedra to a cell, stiff_ratio in the stiff side's.
-models::fem::Mesh hybrid_mesh(const HybridSpec& spec);
-
-// N: the force on a holder keeping behavior mass `mass` of `spec` at its
-// rest position plus `displacement` once the lattice has settled
-// (implicit Euler to rest): the behavior model's static answer to a press
-// of one of its masses.
-Eigen::Vector3d behavior_static_force(const HybridSpec& spec, int mass, const Eigen::Vector3d& displacement);
-// N, by depth: the behavior model's static answer to a press of the
-// surface drawn: the force with which `spec`'s behavior
-// model, loaded at the point of its visual rest surface nearest `point`
-// as touch() loads a proxy there (along the surface's inward normal, or
-// along `along` where it is not zero, spread over the face's vertices and
-// by their rows of the visual map over the masses), sinks there by each
-// of `depths` (m, > 0, increasing) along that direction once settled
-// (implicit Euler to rest), pressed deeper step by step. The force felt
-// is calibrated to it along the normal (force_gain), and force_vs_behavior
-// compares the two. A stylus that comes in at an angle presses along its
-// offset from the proxy, not the normal, and on the default organ's
-// slopes the two presses take forces up to 40 % apart (bench hybrid's
-// seen_vs_felt row compares the force felt with both: felt_rel_error
-// 0.11, felt_rel_error_normal 0.40).
-std::vector<double> behavior_surface_force(const HybridSpec& spec, const Eigen::Vector3d& point,
-                                           const std::vector<double>& depths,
-                                           const Eigen::Vector3d& along = Eigen::Vector3d::Zero());
-
-// The force felt over the press's depth (the HIP's distance from the
-// proxy): the behavior model's static force for a press
-// of its drawn surface (behavior_surface_force) at 21 depths from 2 % to
-// all of a quarter of the rest box's smallest side (0.5 to 25 mm for a 10
-// cm cube), at a gain point in the middle of the soft side's top and,
-// with a stiff_ratio, of the stiff side's: the middle of a top cell's face
-// beside the side's middle column, where a press spreads over four masses
-// (bench hybrid's stiffening rows say how its stiffening under depth
-// compares with other points'). An S-Chain moves more chains the deeper it
-// is pressed, and its force grows far faster than the lattice's (bench
-// hybrid, force_vs_behavior rows: ten times it at 25 mm with the ranges
-// fitted on 1 to 5 mm); touch() scales it to this (Hybrid::force_scale).
-struct ForceGain {
-  std::vector<double> depth;        // m, increasing
-  std::vector<double> soft, stiff;  // N, the behavior model's force at each depth
-  // m/N: the drawn surface's compliance at rest at each side's gain
-  // point, and at every visual rest vertex (empty for a lattice of over
-  // kMostMasses masses, whose stiffness is not factored).
-  double soft_compliance = 0, stiff_compliance = 0;
-  std::vector<double> compliance;
-  static constexpr int kMostMasses = 20000;
-  // N: the force at a depth, a power law between the samples (a straight
-  // line on log scales), proportional to the depth below the first and
-  // past the last.
-  double at(double depth, bool stiff_side) const;
-};
-// Takes seconds: the behavior model settles at every depth, pressed in
-// turn (implicit Euler to rest), on each side; and its rest stiffness is
-// factored and forward-substituted for every visual vertex. `map`: the spec's visual
-// map where the caller has it (what Hybrid::map() holds: a row per visual
-// vertex, a column per cage mass); empty, it is computed.
-ForceGain force_gain(const HybridSpec& spec, const Weights& map = {});
-// The spec's fields force_gain reads, in a fixed order, after
-// kForceGainVersion (the shape's vertices and triangles last): a cache's key.
-std::vector<double> gain_inputs(const HybridSpec& spec);
-// Raised whenever force_gain computes differently from the same spec, so
-// that gains kept on disk by an older build are computed again.
-constexpr int kForceGainVersion = 4;
-using GainSource = std::function<ForceGain(const HybridSpec&, const Weights& map)>;
-
-// The visual map of mean value weights (truncated for mvc_sparse) from the
-// cage's rest positions (3 x n), its triangles and the visual rest points
-// (3 x m): the slow part of building a Hybrid (about a second at seed
-// scale). It depends on nothing else, so a service may keep it on disk.
-Weights mvc_map(const HybridSpec& spec, const Eigen::Matrix3Xd& cage, const std::vector<Eigen::Vector3i>& triangles,
-                const Eigen::Matrix3Xd& points);
-using MapSource = std::function<Weights(const Eigen::Matrix3Xd& cage, const std::vector<Eigen::Vector3i>& triangles,
-                                        const Eigen::Matrix3Xd& points)>;
-
 class Hybrid final : public Object {
  public:
   // `map`, if given, stands in for mvc_map (for example a cache of it);
   // it must return points x cage weights. Ignored for the trilinear map.
   // `gain`, if given, stands in for force_gain (computed once per process
-  // for each spec otherwise).
+  // for each gain_key otherwise: shared_force_gain).
   explicit Hybrid(const HybridSpec& spec, const MapSource& map = {}, const GainSource& gain = {});
 
   // The HIP touches where its path crosses the visual rest surface from
@@ -257,13 +91,12 @@ class Hybrid final : public Object {
   // over the S-Chain's steady force for that press of e (along the normal
   // of the visual vertex nearest it; the side's gain element's for an
   // anchored one). Once the chains have relaxed, the force felt is the
-  // behavior model's for a press of the surface drawn here (issue 26
-  // item 4): at the gain points its own, elsewhere as stiff as the
-  // surface is there at rest.
+  // behavior model's for a press of the surface drawn here: at the gain
+  // points its own, elsewhere as stiff as the surface is there at rest.
   double force_scale(int e, double depth, bool stiff) const;
   static constexpr double kPointSpread = 8;
-  // How much harder than force_scale the force felt presses (issue 26
-  // item 4 away from the gain points): 1 at each contact's start, then,
+  // How much harder than force_scale the force felt presses (away from
+  // the gain points): 1 at each contact's start, then,
   // at each couple() while the HIP presses within 60 degrees of the
   // normal and deeper than kFollowFrom, times the press's depth over how
   // far the drawn surface has sunk (sunk()) to the power behavior dt over

@@ -418,7 +418,7 @@ std::vector<Row> visual_rows(bool quick) {
 
 // The force felt against the behavior model's for a press of the surface
 // drawn, on each side of the 10 cm cube with a stiff side 4 times
-// stiffer, at its gain point (models/deformable/hybrid.h, ForceGain):
+// stiffer, at its gain point (models/deformable/force_gain.h, ForceGain):
 // pressed from 1 mm above to each depth over 0.1 s and held 0.9 s (the
 // force follows the behavior model, which rings for a few tenths of a
 // second under a deep press of the stiff side), let go for 1 s between

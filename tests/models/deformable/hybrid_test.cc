@@ -1,6 +1,6 @@
-// The hybrid deformable model (001): the seed's meshes, the visual map,
-// release, monotone and non-homogeneous force, agreement of the S-Chain force
-// with the behavior model's, and abuse by the haptic point.
+// The hybrid deformable model (001): the visual map, release, monotone and
+// non-homogeneous force, agreement of the force felt with the behavior
+// model's, organs from a mesh, friction, and abuse by the haptic point.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -12,16 +12,10 @@
 
 #include "models/deformable/hybrid.h"
 #include "models/deformable/surface.h"
-#include "tests/support/temp_dir.h"
+#include "tests/support/shapes.h"
 
 namespace hcosim::models::deformable {
 namespace {
-
-double signed_volume(const Eigen::Matrix3Xd& x, const std::vector<Eigen::Vector3i>& t) {
-  double v = 0;
-  for (const auto& f : t) v += x.col(f[0]).dot(x.col(f[1]).cross(x.col(f[2]))) / 6;
-  return v;
-}
 
 // A force gain for tests of what does not depend on the force's size (the
 // map, the placing of a shape): computing the real one settles the
@@ -51,28 +45,6 @@ Touch press(Hybrid& h, int e, double depth) {
     h.advance();
   }
   return t;
-}
-
-TEST(HybridSurfaces, SeedMeshesAreClosedAndFaceOutward) {
-  const HybridSpec s;
-  const models::massspring::TriangleMesh v = rounded_box(30, -Eigen::Vector3d::Ones(), Eigen::Vector3d::Ones(), 8);
-  EXPECT_EQ(v.vertices.cols(), 5402);  // 001 Fig 7
-  EXPECT_EQ(v.triangles.size(), 10800u);
-  models::massspring::check_closed(v);
-  EXPECT_GT(signed_volume(v.vertices, v.triangles), 0);
-  EXPECT_NEAR(height_over(v.vertices, v.triangles, {0, 0}), 1, 1e-12);  // the top face's centre
-  EXPECT_EQ(height_over(v.vertices, v.triangles, {2, 0}), -std::numeric_limits<double>::infinity());
-  const Eigen::Matrix3Xd n = vertex_normals(v.vertices, v.triangles);
-  for (int i = 0; i < n.cols(); ++i) ASSERT_GT(n.col(i).dot(v.vertices.col(i)), 0) << "vertex " << i;
-
-  const GridSurface g = grid_surface(10, 10, 10);
-  EXPECT_EQ(g.nodes.size(), 488u);  // 1000 - 8^3
-  EXPECT_EQ(g.triangles.size(), 972u);
-  models::massspring::TriangleMesh cage{Eigen::Matrix3Xd(3, g.nodes.size()), g.triangles};
-  for (std::size_t i = 0; i < g.nodes.size(); ++i)
-    cage.vertices.col(i) << g.nodes[i] % 10, (g.nodes[i] / 10) % 10, g.nodes[i] / 100;
-  models::massspring::check_closed(cage);
-  EXPECT_NEAR(signed_volume(cage.vertices, cage.triangles), 729, 1e-9);
 }
 
 // The seed's visual mesh has face centres a rounding error off its cage's
@@ -147,27 +119,6 @@ TEST(HybridSlow, StifferSidePushesBackHarderInBothModels) {  // 001 Fig 8
   EXPECT_GT(behavior_static_force(s, top(s, 2), down).z(), 2 * behavior_static_force(s, top(s, -3), down).z());
 }
 
-// Pressed at the top's centre past one lattice spacing (11 mm), the
-// behavior model's static force keeps rising: the volume floors keep the
-// pressed mass from punching through the layer below. Without them
-// (volume 0) it dropped from 0.68 N at 12 mm to 0.48 N at 14 mm, where the
-// floors give 0.89 and 1.13 N. They leave the springs alone below the
-// floor: at 4 mm both give the same force.
-TEST(HybridSlow, TheBehaviorModelDoesNotSnapThroughPastOneCell) {
-  HybridSpec s = quick();
-  const Eigen::Vector3d down(0, 0, -1);
-  double last = 0;
-  for (const double depth : {0.004, 0.01, 0.012, 0.014, 0.016, 0.02}) {
-    const double f = behavior_static_force(s, top(s), depth * down).z();
-    EXPECT_GT(f, last) << "depth " << depth;
-    last = f;
-  }
-  const double floors_4mm = behavior_static_force(s, top(s), 0.004 * down).z();
-  s.volume = 0;
-  EXPECT_NEAR(behavior_static_force(s, top(s), 0.004 * down).z(), floors_4mm, 1e-9);
-  EXPECT_LT(behavior_static_force(s, top(s), 0.014 * down).z(), behavior_static_force(s, top(s), 0.012 * down).z());
-}
-
 // The force felt agrees with the shape seen, here at
 // each side's gain point: pressed from 0.5 mm to a quarter of its size
 // below the drawn surface there and held 0.9 s, the hybrid's force is
@@ -207,24 +158,6 @@ TEST(HybridSlow, ForceFeltAgreesWithTheBehaviorModelToAQuarterOfItsSize) {
                                                       << ": felt " << t.force.z() << " N, behavior " << behavior[j];
     }
   }
-}
-
-// The behavior model's force for a press of its drawn surface along a
-// direction is its force for a press along the normal where that
-// direction is the inward normal, and differs from it along another.
-TEST(HybridSlow, ASurfacePressAlongTheNormalIsTheNormalPress) {
-  const HybridSpec s = quick();
-  const Hybrid h(s);
-  const Eigen::Vector3d at = h.gain_point(false), down(0, 0, -1), slant = Eigen::Vector3d(1, 0, -2).normalized();
-  const std::vector<double> normal = behavior_surface_force(s, at, {0.001, 0.004});
-  const std::vector<double> along = behavior_surface_force(s, at, {0.001, 0.004}, down);
-  // Not bit for bit: the normal press starts its search from the
-  // compliance along the face's vertex normals, which lean a little, and
-  // the search ends within 1 % of the depth (1.5e-5 apart here).
-  for (int j = 0; j < 2; ++j) EXPECT_NEAR(along[j] / normal[j], 1, 1e-3) << "depth " << j;
-  // 0.81 here, 27 degrees off the normal: the lattice is softer slanted.
-  EXPECT_LT(behavior_surface_force(s, at, {0.004}, slant)[0] / normal[1], 0.95);
-  EXPECT_THROW(behavior_surface_force(s, at, {0.001}, Eigen::Vector3d(NAN, 0, -1)), std::invalid_argument);
 }
 
 // With the corotational FEM as its behavior model (a 6^3 cube, to be
@@ -350,19 +283,10 @@ TEST(HybridSlow, TheOrganIsTouchedWhereItsSurfaceIsDrawn) {
   }
 }
 
-// An organ from a mesh: a loaf, an ellipsoid of axes
-// 2 : 1.2 : 1 cut flat at a fifth of its height, written in centimetres
-// off the origin, to be scaled to 4 cm and put on the floor.
-models::massspring::TriangleMesh loaf() {
-  models::massspring::TriangleMesh m =
-      rounded_box(16, Eigen::Vector3d(3, 4, 5), Eigen::Vector3d(7, 6.4, 7), 2);  // 4 x 2.4 x 2 cm
-  for (int v = 0; v < m.vertices.cols(); ++v) m.vertices(2, v) = std::max(m.vertices(2, v), 5.4);
-  return m;
-}
-
+// An organ from a mesh: the loaf scaled to 4 cm and put on the floor.
 HybridSpec loaf_spec() {
   HybridSpec s;
-  s.shape = loaf();
+  s.shape = tests::loaf();
   s.size = 0.04;
   s.elements = 16;
   s.centre = Eigen::Vector3d(0.01, -0.02, 0.008);  // its box is 1.6 cm high
@@ -374,13 +298,13 @@ TEST(HybridShape, AnOrganIsItsMeshPlacedAndFilledByItsCells) {
   const HybridSpec s = loaf_spec();
   const Hybrid h(s, {}, any_gain());
   const models::massspring::TriangleMesh& v = h.visual_rest();
-  EXPECT_EQ(v.vertices.cols(), loaf().vertices.cols());
-  EXPECT_EQ(v.triangles, loaf().triangles);
+  EXPECT_EQ(v.vertices.cols(), tests::loaf().vertices.cols());
+  EXPECT_EQ(v.triangles, tests::loaf().triangles);
   const Eigen::Vector3d lo = v.vertices.rowwise().minCoeff(), hi = v.vertices.rowwise().maxCoeff();
   EXPECT_NEAR((hi - lo).maxCoeff(), 0.04, 1e-12);
   EXPECT_LT((0.5 * (lo + hi) - s.centre).norm(), 1e-12);
   EXPECT_NEAR(lo.z(), 0, 1e-12);
-  EXPECT_GT(signed_volume(v.vertices, v.triangles), 0);
+  EXPECT_GT(tests::signed_volume(v.vertices, v.triangles), 0);
   // Masses only where cells are inside: within a cell's diagonal of the
   // surface's box, far fewer than the box's nodes, the floor's anchored.
   const models::massspring::Lattice& l = h.behavior().lattice();
@@ -401,7 +325,7 @@ TEST(HybridShape, AnOrganIsItsMeshPlacedAndFilledByItsCells) {
   models::massspring::check_closed(cage);
   const models::massspring::Voxels vox = hybrid_voxels(s);
   const double filled = std::count(vox.filled.begin(), vox.filled.end(), 1);
-  EXPECT_NEAR(signed_volume(cage.vertices, cage.triangles), filled * std::pow(vox.spacing, 3), 1e-12);
+  EXPECT_NEAR(tests::signed_volume(cage.vertices, cage.triangles), filled * std::pow(vox.spacing, 3), 1e-12);
   EXPECT_EQ(h.cage_masses(), g.nodes);
 }
 
@@ -526,22 +450,6 @@ TEST(HybridShapeSlow, APressGivesBackNoMoreWorkThanItTook) {
       }
     }
   }
-}
-
-TEST(HybridShape, AShapeWithoutAFloorOrOpenIsRefusedByName) {
-  HybridSpec s = loaf_spec();
-  // An octahedron standing on a vertex: no cell of its lowest layer is inside.
-  s.shape.vertices.resize(3, 6);
-  s.shape.vertices << 1, -1, 0, 0, 0, 0, 0, 0, 1, -1, 0, 0, 0, 0, 0, 0, 1, -1;
-  s.shape.triangles = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
-  s.elements = 7;
-  EXPECT_NE(tests::message_of([&] { Hybrid h(s); }).find("flat underside"), std::string::npos);
-  s.shape = loaf();
-  s.shape.triangles.pop_back();
-  EXPECT_NE(tests::message_of([&] { Hybrid h(s); }).find("not closed"), std::string::npos);
-  s.shape = loaf();
-  s.map = VisualMap::trilinear;
-  EXPECT_NE(tests::message_of([&] { Hybrid h(s); }).find("mvc"), std::string::npos);
 }
 
 // Press 3 mm on top, then slide 10 mm sideways at 1 cm/s, on each side:
