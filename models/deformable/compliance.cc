@@ -56,7 +56,7 @@ std::vector<double> rest_compliance(const HybridSpec& spec, const models::masssp
     if (!lat.anchored[i]) dof[i] = free++;
   const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(rest_stiffness(spec, lat, dof, free));
   check_hybrid(ldlt.info() == Eigen::Success,
-              "the behavior model's stiffness at rest is singular: a mass holds by nothing");
+               "the behavior model's stiffness at rest is singular: a mass holds by nothing");
   const Eigen::SparseMatrix<double>& l = ldlt.matrixL().nestedExpression();
   const Eigen::VectorXi& to = ldlt.permutationP().indices();
   const Eigen::VectorXd& d = ldlt.vectorD();

@@ -104,7 +104,6 @@ double power_law(const std::vector<double>& xs, const double* ys, double x) {
   return ys[k - 1] * std::pow(ys[k] / ys[k - 1], std::log(x / xs[k - 1]) / std::log(xs[k] / xs[k - 1]));
 }
 
-
 double ForceGain::at(double d, bool stiff_side) const {
   return power_law(depth, (stiff_side && !stiff.empty() ? stiff : soft).data(), d);
 }
@@ -251,7 +250,7 @@ std::vector<double> behavior_surface_force(const HybridSpec& spec, const Eigen::
   check_hybrid(along.allFinite(), "the direction must be finite");
   for (std::size_t j = 0; j < depths.size(); ++j)
     check_hybrid(std::isfinite(depths[j]) && depths[j] > (j > 0 ? depths[j - 1] : 0),
-                "the depths must be finite, > 0 and increasing");
+                 "the depths must be finite, > 0 and increasing");
   const models::massspring::Voxels voxels = hybrid_voxels(spec);
   const models::massspring::Lattice lat = hybrid_masses(spec);
   const models::massspring::TriangleMesh visual = hybrid_visual(spec);
@@ -309,6 +308,5 @@ ForceGain shared_force_gain(const HybridSpec& s, const Weights& map) {
   const std::lock_guard<std::mutex> l(m);
   return seen.emplace(o.str(), std::move(g)).first->second;
 }
-
 
 }  // namespace hcosim::models::deformable

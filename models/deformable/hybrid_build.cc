@@ -38,7 +38,7 @@ void anchor_bottom(const models::massspring::Voxels& v, std::vector<std::uint8_t
   int count = 0;
   for (int i = 0; i < rest.cols(); ++i) count += anchored[i] = rest(2, i) < v.origin.z() + 0.5 * v.spacing;
   check_hybrid(count >= 3, "the body's lowest layer of nodes holds " + std::to_string(count) +
-                              " (3 or more needed): a shape must rest on a flat underside");
+                               " (3 or more needed): a shape must rest on a flat underside");
 }
 
 }  // namespace

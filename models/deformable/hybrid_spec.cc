@@ -56,8 +56,7 @@ void check(const HybridSpec& s) {
   check_hybrid(s.volume_floor > 0 && s.volume_floor <= 1, "volume_floor must be in (0, 1]");
   check_hybrid(s.modes >= 1 && s.modes <= models::fem::Modal::kMaxDofs,
                "modes must be in [1, " + std::to_string(models::fem::Modal::kMaxDofs) + "]");
-  check_hybrid(s.visual_subdivisions >= 1 && s.visual_subdivisions <= 1000,
-               "visual_subdivisions must be in [1, 1000]");
+  check_hybrid(s.visual_subdivisions >= 1 && s.visual_subdivisions <= 1000, "visual_subdivisions must be in [1, 1000]");
   check_hybrid(s.keep > 0 && s.keep <= 1, "keep must be in (0, 1]");
   check_hybrid(s.visual_tolerance >= 0 && s.visual_tolerance < s.size, "visual_tolerance must be in [0, size)");
   check_hybrid(s.tip_radius >= 0 && s.tip_radius < 0.5 * s.size, "tip_radius must be in [0, size / 2)");

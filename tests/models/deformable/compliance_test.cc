@@ -81,7 +81,8 @@ TEST(Compliance, EveryModeOfTheModalModelIsTheFemsCompliance) {
   const Weights rows = map_rows(fem, voxels, cage, p.at);
   EXPECT_EQ(modal_of(fem), nullptr);
   const std::vector<double> full = surface_compliance(fem, lattice, nullptr, rows, cage.masses, p.normal);
-  const std::vector<double> all = surface_compliance(modal, lattice, modal_of(modal).get(), rows, cage.masses, p.normal);
+  const std::vector<double> all =
+      surface_compliance(modal, lattice, modal_of(modal).get(), rows, cage.masses, p.normal);
   const std::vector<double> some = surface_compliance(few, lattice, modal_of(few).get(), rows, cage.masses, p.normal);
   for (int k = 0; k < 2; ++k) {
     EXPECT_NEAR(all[k] / full[k], 1, 1e-6) << "point " << k;

@@ -97,7 +97,10 @@ TEST(HybridSpec, TheGainKeyChangesWithEveryFieldTheGainReadsAndNoOther) {
       {"centre", [](HybridSpec& s) { s.centre.x() += 0.2; }},
       {"behavior", [](HybridSpec& s) { s.behavior.dt = 2e-3, s.behavior.threshold = 1e-6; }},
       {"visual_tolerance", [](HybridSpec& s) { s.visual_tolerance = 1e-4; }},
-      {"friction", [](HybridSpec& s) { s.friction = {0.6, 0.5}; }},
+      {"friction",
+       [](HybridSpec& s) {
+         s.friction = {0.6, 0.5};
+       }},
       {"tip_radius", [](HybridSpec& s) { s.tip_radius = 0.002; }},
   };
   for (const auto& [field, change] : unread) {
