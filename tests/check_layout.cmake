@@ -63,7 +63,7 @@ foreach(layer models adapters services tests)
         set(want "hcosim::${top}")
       else()
         list(GET parts 1 area)
-        if(top STREQUAL "services" AND NOT area MATCHES "^(runtime|bench|cli|report|foxglove)$")
+        if(top STREQUAL "services" AND NOT area MATCHES "^(runtime|recording|bench|cli|report|foxglove)$")
           set(want "")  # a service's main.cc
         else()
           set(want "hcosim::${top}::${area}")

@@ -17,9 +17,9 @@ namespace hcosim::adapters::foxglove {
 
 namespace {
 
-constexpr const char* kSceneUpdate = "::foxglove::SceneUpdate";
-constexpr const char* kFrameTransforms = "::foxglove::FrameTransforms";
-constexpr const char* kCompressedImage = "::foxglove::CompressedImage";
+constexpr const char* kSceneUpdate = "foxglove::SceneUpdate";
+constexpr const char* kFrameTransforms = "foxglove::FrameTransforms";
+constexpr const char* kCompressedImage = "foxglove::CompressedImage";
 constexpr double kLeastForce = 0.01;  // N: as the AR view, smaller forces draw no arrow
 
 // A message's classic CDR, as a DDS writer would put it on the wire. The

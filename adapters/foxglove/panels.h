@@ -22,7 +22,7 @@ namespace hcosim::adapters::foxglove {
 // One message of a Foxglove channel.
 struct Message {
   std::string topic;              // "scene/organ", "scene/stylus", "tf", "image/cam"
-  const char* schema = "";        // its schema's scoped name, e.g. "::foxglove::SceneUpdate"
+  const char* schema = "";        // its schema's scoped name, e.g. "foxglove::SceneUpdate"
   std::vector<std::uint8_t> cdr;  // encapsulation header first
 };
 

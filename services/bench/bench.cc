@@ -181,7 +181,7 @@ void add_bench(CLI::App& app, runtime::Command& chosen) {
   c->add_flag("--quick", o->quick, "shorter runs, for tests");
   c->add_option("--domain", o->domain, "DDS domain id (default: one of 215..229, of its own)")
       ->option_text("D")
-      ->check(CLI::Range(0, runtime::kMaxDomain));
+      ->check(CLI::Range(0, adapters::kMaxDomain));
   c->add_option("--out", o->out, "the folder for the figures and the report")->option_text("DIR");
   c->callback([&chosen, o] { chosen = [o] { return run(*o); }; });
 }

@@ -86,8 +86,8 @@ double median(std::vector<double> v);
 // report (bench.cc).
 void add_bench(CLI::App& app, runtime::Command& chosen);
 
-// `hcosim bench-peer ...`, hidden: the far end of the dds suite's round
-// trips (dds.cc, peer.h).
+// `hcosim bench-peer ...`, hidden: the far end of the suites' round
+// trips and the dds suite's mesh readers (peer.cc).
 void add_peer(CLI::App& app, runtime::Command& chosen);
 
 // Mass-spring integrators and MuJoCo on the same lattices: massspring.cc.
@@ -113,26 +113,6 @@ Suite soak_suite();
 
 // What the hand feels from each object kind through the services: contact.cc.
 Suite contact_suite();
-
-// deploy/default.yaml's scene and services in real time on `domain`, its
-// tour repeated to last `seconds`, for `duration` s (0: until stopped), the
-// device's closing report written to `device_report` when one is named;
-// written into `dir` (its deploy.yaml, returned).
-std::filesystem::path default_deployment(const std::filesystem::path& dir, int domain, double seconds, double duration,
-                                         const std::filesystem::path& device_report = {});
-
-// `hcosim up DEPLOYMENT --out OUT` in a child process, its output to `log`;
-// with `--record RECORD` when one is named.
-pid_t start_up(const std::filesystem::path& deployment, const std::filesystem::path& out,
-               const std::filesystem::path& log, const std::filesystem::path& record = {});
-
-// Waits until `up` (from start_up, its output in `log`) says every service
-// runs; if it exits first or has not within 120 s, stops it and throws
-// naming `what` and the log.
-void wait_running(pid_t up, const std::filesystem::path& log, const std::string& what);
-
-// A file's whole text ("" when it cannot be read).
-std::string read_all(const std::filesystem::path& file);
 
 // The live Foxglove bridge's cost at the default scene: foxglove.cc.
 Suite foxglove_suite();

@@ -46,7 +46,8 @@
 #include <Eigen/Core>
 
 #include "services/bench/bench.h"
-#include "services/runtime/recording.h"
+#include "services/bench/harness.h"
+#include "services/recording/recording.h"
 
 namespace hcosim::services::bench {
 namespace {
@@ -245,16 +246,16 @@ struct Tick {
 
 std::map<std::uint64_t, Tick> read(const fs::path& rec) {
   std::map<std::uint64_t, Tick> ticks;
-  runtime::RecordingReader in(rec.string());
-  runtime::Record r;
+  recording::RecordingReader in(rec.string());
+  recording::Record r;
   while (in.next(r)) {
     if (r.topic == "HapticState") {
-      const HapticState s = runtime::from_cdr<HapticState>(r.cdr);
+      const HapticState s = recording::from_cdr<HapticState>(r.cdr);
       Tick& t = ticks[s.seq()];
       t.hip = Eigen::Vector3d(s.position().x(), s.position().y(), s.position().z());
       t.buttons = s.buttons();
     } else if (r.topic == "ForceFeedback") {
-      const ForceFeedback f = runtime::from_cdr<ForceFeedback>(r.cdr);
+      const ForceFeedback f = recording::from_cdr<ForceFeedback>(r.cdr);
       ticks[f.answers_seq()].answers[f.source().to_string()] = f;
     }
   }

@@ -24,6 +24,7 @@
 
 #include "adapters/json.h"
 #include "services/bench/bench.h"
+#include "services/bench/harness.h"
 #include "services/foxglove/client.h"
 #include "services/runtime/service.h"
 

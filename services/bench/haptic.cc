@@ -28,11 +28,12 @@
 #include <sstream>
 #include <thread>
 
+#include "adapters/deployment.h"
 #include "adapters/device/wall_rig.h"
 #include "adapters/json.h"
 #include "services/bench/bench.h"
+#include "services/bench/harness.h"
 #include "services/bench/peer.h"
-#include "services/runtime/deployment.h"
 #include "services/runtime/service.h"
 
 namespace hcosim::services::bench {
@@ -71,7 +72,7 @@ Row closed_loop(const Context& c, double seconds) {
   }
   int status = 0;
   waitpid(dev, &status, 0);
-  stop_peer(peer);
+  stop(peer);
   std::ifstream in(dir / "omni.json");
   std::stringstream json;
   json << in.rdbuf();
@@ -95,7 +96,7 @@ Row deployment(const Context& c, double seconds) {
   // The bare pair runs once every service does (the run's duration counts
   // from then), and ends before it.
   wait_running(up, log, "bench haptic");
-  const Rtt bare = bare_rtt(c.domain + 1, std::max(1.0, seconds - 4), runtime::kHapticPriority);
+  const Rtt bare = bare_rtt(c.domain + 1, std::max(1.0, seconds - 4), adapters::kHapticPriority);
   int status = 0;
   waitpid(up, &status, 0);
   const std::string json = read_all(report);

@@ -474,6 +474,94 @@ double trace_error(const Trace& got, const Trace& ref, const Eigen::Matrix3Xd& r
   return std::sqrt(num / den);
 }
 
+// against_fem rows of Bullet's soft body on the same nodes and tetrahedra,
+// masses and drag (kDP = drag dt / m), over its stiffness coefficient and
+// iterations.
+void add_bullet_rows(std::vector<Row>& rows, const std::string& what, const ms::Lattice& l,
+                     const std::vector<ms::PointForce>& load, const Trace& ref) {
+  const std::vector<ms::PointForce> none;
+  const Eigen::VectorXd masses = l.mass;
+  for (const double stiffness : {0.1, 0.5, 1.0})
+    for (const int iterations : {1, 4, 16}) {
+      progress(what + "Bullet's soft body, kLST " + fmt(stiffness) + ", " + std::to_string(iterations) + " iterations");
+      BulletSoftSettings bs;
+      bs.stiffness = stiffness, bs.iterations = iterations, bs.dt = 1e-3;
+      bs.damping = cube_material().drag / cube_material().mass * bs.dt;
+      const Trace t = measure(
+          [&] {
+            BulletSoft body(l.rest, ms::box_tetrahedra(kCells + 1, kCells + 1, kCells + 1), masses, l.anchored, bs);
+            return timeline(
+                bs.dt, [&](bool loaded) { body.step(loaded ? load : none); }, [&] { return body.positions(); });
+          },
+          3);
+      rows.push_back({"against_fem",
+                      {{"model", std::string("bullet")},
+                       {"integrator", std::string("btSoftBody")},
+                       {"dt", bs.dt},
+                       {"threshold", 0.0},
+                       {"bullet_stiffness", stiffness},
+                       {"bullet_iterations", double(iterations)}},
+                      {{"rel_error", trace_error(t, ref, l.rest)},
+                       {"ms_per_sim_s", t.wall_s * 1e3 / kDuration},
+                       {"substeps", 1.0}}});
+    }
+}
+
+// against_fem rows of the FEM's linear modal reduction (models/fem/modal.h)
+// on the same nodes and solid, over the modes kept and the step: each step
+// exact for a load held over it, as this scene's is.
+void add_modal_rows(std::vector<Row>& rows, const std::string& what, const TopLoad& scene, const fem::Material& cont,
+                    const Trace& ref, const Eigen::Matrix3Xd& rest) {
+  const std::vector<ms::PointForce> none;
+  const FemCube nodes = fem_cube(1);
+  const fem::Corotational linearised(nodes.mesh, cont, {});
+  const std::vector<ms::PointForce> node_load = patch_load(nodes.mesh.rest, kSpacing, scene);
+  for (const int modes : {8, 32, 3 * int(std::count(nodes.mesh.anchored.begin(), nodes.mesh.anchored.end(), 0))})
+    for (const double dt : {1e-3, 5e-3, 2e-2}) {
+      progress(what + "the FEM's " + std::to_string(modes) + " lowest modes, dt " + fmt(dt));
+      const fem::Modal modal(linearised, fem::ModalOptions{dt, modes});
+      const Trace t = measure(
+          [&] {
+            ms::State st = fem::rest_state(nodes.mesh);
+            return timeline(
+                dt, [&](bool loaded) { modal.step(st, loaded ? node_load : none); },
+                [&] { return nodes.sample(st.x); });
+          },
+          3);
+      rows.push_back({"against_fem",
+                      {{"model", std::string("modal")},
+                       {"integrator", std::string("exact")},
+                       {"dt", dt},
+                       {"threshold", 0.0},
+                       {"modes", double(modes)}},
+                      {{"rel_error", trace_error(t, ref, rest)},
+                       {"ms_per_sim_s", t.wall_s * 1e3 / kDuration},
+                       {"substeps", 1.0}}});
+    }
+}
+
+// Each Bullet row: its time over that of our fastest row (springs, FEM or
+// modes) whose error is no larger; 0 where none of ours is as close.
+// against_fem rows: params[0] the model; metrics rel_error, ms_per_sim_s.
+void match_bullet(std::vector<Row>& rows) {
+  auto model = [](const Row& r) { return std::get<std::string>(r.params[0].second); };
+  for (Row& b : rows) {
+    if (b.name != "against_fem" || model(b) != "bullet") continue;
+    const Row* best = nullptr;
+    for (const Row& o : rows)
+      if (o.name == "against_fem" && model(o) != "bullet" && o.metrics[0].second <= b.metrics[0].second &&
+          (!best || o.metrics[1].second < best->metrics[1].second))
+        best = &o;
+    b.metrics.push_back({"speedup_at_equal_error", best ? b.metrics[1].second / best->metrics[1].second : 0.0});
+    std::string match = best ? "" : "none";
+    if (best)
+      for (const auto& [k, v] : best->params)
+        if (k == "model" || k == "integrator" || k == "dt" || k == "threshold" || k == "modes")
+          match += (match.empty() ? "" : " ") + k + "=" + text(v);
+    b.params.push_back({"matched_by", match});
+  }
+}
+
 // One scene's rows of against_fem, fem_reference and against_fem_static,
 // each with its `scene` param last.
 std::vector<Row> fem_rows(const Context& c, const TopLoad& scene) {
@@ -540,33 +628,7 @@ std::vector<Row> fem_rows(const Context& c, const TopLoad& scene) {
         3);
     add("springs", ms::name(cf.integrator), dt, cf.threshold, t);
   }
-  // Bullet's soft body on the same nodes and tetrahedra, masses and drag
-  // (kDP = drag dt / m), over its stiffness coefficient and iterations.
-  const Eigen::VectorXd masses = l.mass;
-  for (const double stiffness : {0.1, 0.5, 1.0})
-    for (const int iterations : {1, 4, 16}) {
-      progress(what + "Bullet's soft body, kLST " + fmt(stiffness) + ", " + std::to_string(iterations) + " iterations");
-      BulletSoftSettings bs;
-      bs.stiffness = stiffness, bs.iterations = iterations, bs.dt = 1e-3;
-      bs.damping = cube_material().drag / cube_material().mass * bs.dt;
-      const Trace t = measure(
-          [&] {
-            BulletSoft body(l.rest, ms::box_tetrahedra(kCells + 1, kCells + 1, kCells + 1), masses, l.anchored, bs);
-            return timeline(
-                bs.dt, [&](bool loaded) { body.step(loaded ? load : none); }, [&] { return body.positions(); });
-          },
-          3);
-      rows.push_back({"against_fem",
-                      {{"model", std::string("bullet")},
-                       {"integrator", std::string("btSoftBody")},
-                       {"dt", bs.dt},
-                       {"threshold", 0.0},
-                       {"bullet_stiffness", stiffness},
-                       {"bullet_iterations", double(iterations)}},
-                      {{"rel_error", trace_error(t, ref, l.rest)},
-                       {"ms_per_sim_s", t.wall_s * 1e3 / kDuration},
-                       {"substeps", 1.0}}});
-    }
+  add_bullet_rows(rows, what, l, load, ref);
   for (const int r : {0, 1})
     rows.push_back({"against_fem_static",
                     {{"model", std::string(r == 0 ? "springs" : "fem")}},
@@ -577,53 +639,8 @@ std::vector<Row> fem_rows(const Context& c, const TopLoad& scene) {
       progress(what + "the FEM on the lattice's nodes, " + name + ", dt " + fmt(dt));
       add("fem", name, dt, 0, measure([&] { return run_fem(1, dt, scheme, scene); }, 3));
     }
-  // The FEM's linear modal reduction (models/fem/modal.h) on the same
-  // nodes and solid, over the modes kept and the step: each step exact
-  // for a load held over it, as this scene's is.
-  const FemCube nodes = fem_cube(1);
-  const fem::Corotational linearised(nodes.mesh, cont, {});
-  const std::vector<ms::PointForce> node_load = patch_load(nodes.mesh.rest, kSpacing, scene);
-  for (const int modes : {8, 32, 3 * int(std::count(nodes.mesh.anchored.begin(), nodes.mesh.anchored.end(), 0))})
-    for (const double dt : {1e-3, 5e-3, 2e-2}) {
-      progress(what + "the FEM's " + std::to_string(modes) + " lowest modes, dt " + fmt(dt));
-      const fem::Modal modal(linearised, fem::ModalOptions{dt, modes});
-      const Trace t = measure(
-          [&] {
-            ms::State st = fem::rest_state(nodes.mesh);
-            return timeline(
-                dt, [&](bool loaded) { modal.step(st, loaded ? node_load : none); },
-                [&] { return nodes.sample(st.x); });
-          },
-          3);
-      rows.push_back({"against_fem",
-                      {{"model", std::string("modal")},
-                       {"integrator", std::string("exact")},
-                       {"dt", dt},
-                       {"threshold", 0.0},
-                       {"modes", double(modes)}},
-                      {{"rel_error", trace_error(t, ref, l.rest)},
-                       {"ms_per_sim_s", t.wall_s * 1e3 / kDuration},
-                       {"substeps", 1.0}}});
-    }
-  // Each Bullet row: its time over that of our fastest row (springs, FEM
-  // or modes) whose error is no larger; 0 where none of ours is as close.
-  // against_fem rows: params[0] the model; metrics rel_error, ms_per_sim_s.
-  auto model = [](const Row& r) { return std::get<std::string>(r.params[0].second); };
-  for (Row& b : rows) {
-    if (b.name != "against_fem" || model(b) != "bullet") continue;
-    const Row* best = nullptr;
-    for (const Row& o : rows)
-      if (o.name == "against_fem" && model(o) != "bullet" && o.metrics[0].second <= b.metrics[0].second &&
-          (!best || o.metrics[1].second < best->metrics[1].second))
-        best = &o;
-    b.metrics.push_back({"speedup_at_equal_error", best ? b.metrics[1].second / best->metrics[1].second : 0.0});
-    std::string match = best ? "" : "none";
-    if (best)
-      for (const auto& [k, v] : best->params)
-        if (k == "model" || k == "integrator" || k == "dt" || k == "threshold" || k == "modes")
-          match += (match.empty() ? "" : " ") + k + "=" + text(v);
-    b.params.push_back({"matched_by", match});
-  }
+  add_modal_rows(rows, what, scene, cont, ref, l.rest);
+  match_bullet(rows);
   for (Row& r : rows) r.params.push_back({"scene", std::string(scene.name)});
   return rows;
 }

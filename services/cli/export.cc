@@ -14,7 +14,7 @@
 
 #include "adapters/idl_json.h"
 #include "services/cli/cli.h"
-#include "services/runtime/recording.h"
+#include "services/recording/recording.h"
 #include "services/runtime/service.h"
 
 namespace hcosim::services::cli {
@@ -45,12 +45,12 @@ void drop_wall_times(adapters::Json& n) {
 // A sample's instance key as Fast DDS hashes it (all zero on a topic
 // without key fields).
 using Key = std::array<std::uint8_t, 16>;
-Key key_of(const runtime::Record& r) {
+Key key_of(const recording::Record& r) {
   Key k{};
   runtime::with_topic(r.topic, [&](auto tag) {
     using T = typename decltype(tag)::type;
-    T s = runtime::from_cdr<T>(r.cdr);
-    // A type support of its own, not runtime::type_support's: getKey keeps
+    T s = recording::from_cdr<T>(r.cdr);
+    // A type support of its own, not recording::type_support's: getKey keeps
     // state in it (its key buffer and MD5), and a shared one gave every
     // sample after the first the same key, so one step's samples kept their
     // arrival order (integration.mcap saw two runs' ForceFeedback differ so).
@@ -76,11 +76,11 @@ struct ExportOptions {
 
 int export_recording(const ExportOptions& o) {
   const std::string &topic = o.topic, &format = o.format;
-  runtime::RecordingReader in(o.file);
-  std::vector<runtime::Record> records;
+  recording::RecordingReader in(o.file);
+  std::vector<recording::Record> records;
   std::vector<Key> keys;
   std::uint64_t total = 0;
-  for (runtime::Record r; in.next(r); ++total)
+  for (recording::Record r; in.next(r); ++total)
     if (r.topic == topic) {
       keys.push_back(key_of(r));
       records.push_back(std::move(r));
@@ -95,11 +95,11 @@ int export_recording(const ExportOptions& o) {
   });
   std::vector<std::string> header;
   for (const std::size_t i : order) {
-    const runtime::Record& r = records[i];
+    const recording::Record& r = records[i];
     adapters::Json sample;
     runtime::with_topic(topic, [&](auto tag) {
       using T = typename decltype(tag)::type;
-      sample = adapters::json_of(runtime::from_cdr<T>(r.cdr));
+      sample = adapters::json_of(recording::from_cdr<T>(r.cdr));
     });
     if (!o.wall) drop_wall_times(sample);
     if (format == "jsonl") {
@@ -138,12 +138,12 @@ int replay(const ReplayOptions& o) {
   const std::string& clock = o.clock;
   // The schedule: simulated time (a lockstep run plays back at its own
   // pace, not the pace its machine ran it at), or the receive times.
-  const auto at = [&](const runtime::Record& r) { return clock == "sim" ? r.sim_time_ns : r.receive_ns; };
+  const auto at = [&](const recording::Record& r) { return clock == "sim" ? r.sim_time_ns : r.receive_ns; };
   const double speed = o.speed;
   const std::vector<std::string>& topics = o.topics;
-  runtime::RecordingReader in(o.file);
-  std::vector<runtime::Record> records;
-  for (runtime::Record r; in.next(r);)
+  recording::RecordingReader in(o.file);
+  std::vector<recording::Record> records;
+  for (recording::Record r; in.next(r);)
     if (topics.empty() || std::find(topics.begin(), topics.end(), r.topic) != topics.end())
       records.push_back(std::move(r));
   if (in.skipped())
@@ -151,20 +151,20 @@ int replay(const ReplayOptions& o) {
               << "skipped\n";
   if (records.empty()) throw std::runtime_error(o.file + ": no sample of the chosen topics");
   std::stable_sort(records.begin(), records.end(),
-                   [&](const runtime::Record& x, const runtime::Record& y) { return at(x) < at(y); });
+                   [&](const recording::Record& x, const recording::Record& y) { return at(x) < at(y); });
 
   runtime::install_stop_handlers();
   runtime::Participant p(o.dds.domain, "hcosim_replay", runtime::default_qos_file(), nullptr, false, o.dds.security);
   // One writer per topic, made before the first sample so readers can match.
-  std::map<std::string, std::function<void(const runtime::Record&)>> write;
+  std::map<std::string, std::function<void(const recording::Record&)>> write;
   std::map<std::string, std::function<int()>> matched;
-  for (const runtime::Record& r : records) {
+  for (const recording::Record& r : records) {
     if (write.count(r.topic)) continue;
     runtime::with_topic(r.topic, [&](auto tag) {
       using T = typename decltype(tag)::type;
       auto w = std::make_shared<runtime::Writer<T>>(p);
-      write[r.topic] = [w](const runtime::Record& rec) {
-        T s = runtime::from_cdr<T>(rec.cdr);
+      write[r.topic] = [w](const recording::Record& rec) {
+        T s = recording::from_cdr<T>(rec.cdr);
         w->write(s);
       };
       matched[r.topic] = [w] { return w->matched(); };
@@ -186,7 +186,7 @@ int replay(const ReplayOptions& o) {
             << (at(records.back()) - at(records.front())) * 1e-9 / speed << " s" << std::endl;
   const std::int64_t start = runtime::mono_ns(), first = at(records.front());
   std::uint64_t sent = 0;
-  for (const runtime::Record& r : records) {
+  for (const recording::Record& r : records) {
     if (runtime::stop_requested()) break;
     const std::int64_t due = start + std::int64_t(double(at(r) - first) / speed);
     if (const std::int64_t wait = due - runtime::mono_ns(); wait > 0)

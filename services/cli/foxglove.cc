@@ -25,7 +25,7 @@ int serve(const FoxgloveOptions& o) {
   adapters::foxglove::Options scene;
   std::vector<adapters::foxglove::Item> items;
   if (!o.deployment.empty()) {
-    const runtime::Deployment d = runtime::load_deployment(o.deployment);
+    const adapters::Deployment d = adapters::load_deployment(o.deployment);
     items = foxglove::panel_items(d), scene.tag_id = foxglove::marker_id(d);
   }
   runtime::Participant p(o.dds.domain, "hcosim_foxglove", runtime::default_qos_file(), nullptr, false, o.dds.security);

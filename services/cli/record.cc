@@ -9,7 +9,7 @@
 
 #include "services/cli/cli.h"
 #include "services/foxglove/panels.h"
-#include "services/runtime/recording.h"
+#include "services/recording/recording.h"
 #include "services/runtime/service.h"
 
 namespace hcosim::services::cli {
@@ -35,19 +35,19 @@ int record_topics(const RecordOptions& o) {
   const double duration = o.duration_s;
   runtime::install_stop_handlers();
   runtime::Participant p(o.dds.domain, "hcosim_record", runtime::default_qos_file(), nullptr, false, o.dds.security);
-  const runtime::RecordingFormat format =
-      o.format.empty() ? runtime::format_of(o.file) : runtime::parse_recording_format(o.format);
-  runtime::Derive derive;
-  if (o.scene && format == runtime::RecordingFormat::mcap) {
+  const recording::RecordingFormat format =
+      o.format.empty() ? recording::format_of(o.file) : recording::parse_recording_format(o.format);
+  recording::Derive derive;
+  if (o.scene && format == recording::RecordingFormat::mcap) {
     std::vector<adapters::foxglove::Item> items;
     adapters::foxglove::Options scene;
     if (!o.deployment.empty()) {
-      const runtime::Deployment d = runtime::load_deployment(o.deployment);
+      const adapters::Deployment d = adapters::load_deployment(o.deployment);
       items = foxglove::panel_items(d), scene.tag_id = foxglove::marker_id(d);
     }
     derive = foxglove::panel_channels(std::move(items), scene);
   }
-  runtime::Recorder recorder(p, o.file, topics, format, runtime::parse_compression(o.compression), derive);
+  recording::Recorder recorder(p, o.file, topics, format, recording::parse_compression(o.compression), derive);
   const std::int64_t end = duration > 0 ? runtime::mono_ns() + std::int64_t(duration * 1e9) : INT64_MAX;
   while (!runtime::stop_requested() && runtime::mono_ns() < end) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -60,7 +60,7 @@ int record_topics(const RecordOptions& o) {
     std::cerr << "hcosim record: samples Fast DDS reports the recording never received: " << lost << "\n";
   if (const std::string dropped = recorder.dropped(); !dropped.empty())
     std::cerr << "hcosim record: samples dropped because the recording's file fell "
-              << (runtime::Recorder::kQueueBytes >> 20) << " MiB behind: " << dropped << "\n";
+              << (recording::Recorder::kQueueBytes >> 20) << " MiB behind: " << dropped << "\n";
   return 0;
 }
 

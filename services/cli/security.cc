@@ -16,8 +16,8 @@
 #include <set>
 #include <sstream>
 
+#include "adapters/deployment.h"
 #include "services/cli/cli.h"
-#include "services/runtime/deployment.h"
 #include "services/runtime/participant.h"
 
 namespace fs = std::filesystem;
@@ -87,7 +87,7 @@ std::string governance(bool all) {
   <domain_access_rules>
     <domain_rule>
       <domains><id_range><min>0</min><max>)" +
-         std::to_string(runtime::kMaxDomain) + R"(</max></id_range></domains>
+         std::to_string(adapters::kMaxDomain) + R"(</max></id_range></domains>
       <allow_unauthenticated_participants>false</allow_unauthenticated_participants>
       <enable_join_access_control>true</enable_join_access_control>
       <discovery_protection_kind>ENCRYPT</discovery_protection_kind>
@@ -158,8 +158,8 @@ struct InitOptions {
 };
 
 int init(const InitOptions& o) {
-  runtime::Deployment d;
-  if (!o.deployment.empty()) d = runtime::load_deployment(o.deployment);
+  adapters::Deployment d;
+  if (!o.deployment.empty()) d = adapters::load_deployment(o.deployment);
   const std::string dir = o.dir.empty() ? d.security : o.dir;
   if (dir.empty())
     throw std::invalid_argument("security init needs a DIR, or a --deployment FILE with a 'security' section");
@@ -219,7 +219,7 @@ int init(const InitOptions& o) {
 
   const std::time_t now = std::time(nullptr);
   const std::string domains =
-      d.file.empty() ? "<id_range><min>0</min><max>" + std::to_string(runtime::kMaxDomain) + "</max></id_range>"
+      d.file.empty() ? "<id_range><min>0</min><max>" + std::to_string(adapters::kMaxDomain) + "</max></id_range>"
                      : "<id>" + std::to_string(d.domain) + "</id>";
   const fs::path gov = fs::path(dir) / "governance.xml", perm = fs::path(dir) / "permissions.xml";
   write(gov, governance(protection == "all"));

@@ -147,7 +147,7 @@ std::string last_line(const fs::path& log) {
   return last;
 }
 
-Supervisor::Supervisor(fs::path logs, runtime::Mode mode) : logs_(std::move(logs)), mode_(mode) {}
+Supervisor::Supervisor(fs::path logs, adapters::Mode mode) : logs_(std::move(logs)), mode_(mode) {}
 
 Supervisor::~Supervisor() { stop(); }
 
@@ -210,21 +210,21 @@ std::string Supervisor::poll(const std::function<bool(const std::string&)>& ran,
     const bool killed = sig == SIGKILL || sig == SIGTERM;
     if (failed(*c) && !killed)
       if (const std::string l = last_line(log_of(c->name)); !l.empty()) last_words_ += "  " + c->name + ": " + l + "\n";
-    if (failed(*c) && c->policy == runtime::OnFailure::kRestart && c->restarts < runtime::kMaxRestarts && !refused) {
+    if (failed(*c) && c->policy == adapters::OnFailure::kRestart && c->restarts < adapters::kMaxRestarts && !refused) {
       restart(*c);
       said += "hcosim up: service '" + c->name + "' ended (" + describe(c->status) + "); restarting it (" +
-              std::to_string(c->restarts) + " of " + std::to_string(runtime::kMaxRestarts) + ")\n" + last_words();
-    } else if (failed(*c) && c->policy == runtime::OnFailure::kIgnore) {
+              std::to_string(c->restarts) + " of " + std::to_string(adapters::kMaxRestarts) + ")\n" + last_words();
+    } else if (failed(*c) && c->policy == adapters::OnFailure::kIgnore) {
       failed_ = true;
       said += "hcosim up: service '" + c->name + "' ended (" + describe(c->status) +
               "); on_failure: ignore, the others run on\n" + last_words();
       if (all_reaped()) return "every service ended";
     } else if (failed(*c)) {
-      const bool unrestarted = refused && c->policy == runtime::OnFailure::kRestart;
+      const bool unrestarted = refused && c->policy == adapters::OnFailure::kRestart;
       return "service '" + c->name + "' ended (" + describe(c->status) +
              (unrestarted ? " before its loop ran; a refused configuration is not restarted" : "") + ")" +
              (c->restarts ? " after " + std::to_string(c->restarts) + " restarts" : "");
-    } else if (mode_ == runtime::Mode::kRealtime) {
+    } else if (mode_ == adapters::Mode::kRealtime) {
       return "service '" + c->name + "' finished";
     } else if (c->name == "clock") {
       // Followers exit by themselves after the last tick; observers are stopped.

@@ -12,25 +12,25 @@
 #include <utility>
 #include <vector>
 
-#include "services/runtime/deployment.h"
+#include "adapters/deployment.h"
 
 namespace hcosim::services::cli {
 
 // One service process.
 struct Child {
   Child(std::string name_, std::string exe_, std::vector<std::string> args_,
-        runtime::OnFailure policy_ = runtime::OnFailure::kStopAll)
+        adapters::OnFailure policy_ = adapters::OnFailure::kStopAll)
       : name(std::move(name_)), exe(std::move(exe_)), args(std::move(args_)), policy(policy_) {}
   std::string name;
   std::string exe;
   std::vector<std::string> args;
-  runtime::OnFailure policy = runtime::OnFailure::kStopAll;
+  adapters::OnFailure policy = adapters::OnFailure::kStopAll;
   pid_t pid = -1;
   int status = 0;  // waitpid status once reaped
   bool reaped = false;
   int restarts = 0;
   std::string env;        // one NAME=VALUE added to its environment ("" none)
-  bool observer = false;  // runtime::observes: never ends a lockstep run by itself, so not waited for
+  bool observer = false;  // adapters::observes: never ends a lockstep run by itself, so not waited for
 };
 
 // build/bin/hcosim_<kind>, searched in $HCOSIM_SERVICE_PATH, then beside
@@ -49,7 +49,7 @@ class Supervisor {
  public:
   // Each child's output goes to logs/NAME.log. In lockstep a follower
   // exiting 0 has seen the last tick: the clock's exit ends the run.
-  Supervisor(std::filesystem::path logs, runtime::Mode mode);
+  Supervisor(std::filesystem::path logs, adapters::Mode mode);
   // Stops whatever still runs.
   ~Supervisor();
   Supervisor(const Supervisor&) = delete;
@@ -59,7 +59,7 @@ class Supervisor {
   pid_t start(Child c);
 
   // Reaps the children that exited since the last call and applies each
-  // one's policy: restart (up to runtime::kMaxRestarts; never one refused
+  // one's policy: restart (up to adapters::kMaxRestarts; never one refused
   // with exit status 2 before `ran(name)`), ignore, or end the run.
   // Returns why the run ends ("" to go on); appends what to tell the user
   // (restarts, ignored failures, the failed services' last log lines) to
@@ -88,7 +88,7 @@ class Supervisor {
   void restart(Child& c);
 
   std::filesystem::path logs_;
-  runtime::Mode mode_;
+  adapters::Mode mode_;
   std::vector<Child> children_;
   bool failed_ = false;   // an ignored failure: the run goes on, its exit status is 1
   bool crashed_ = false;  // some process died by a signal: its shared memory stays behind

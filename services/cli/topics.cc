@@ -13,8 +13,8 @@
 
 #include <fastrtps/utils/IPLocator.h>
 
+#include "adapters/deployment.h"
 #include "services/cli/cli.h"
-#include "services/runtime/deployment.h"
 #include "services/runtime/service.h"
 
 namespace hcosim::services::cli {
@@ -133,11 +133,11 @@ int topics(const TopicsOptions& o) {
   std::map<std::string, std::string> host_of;  // address -> host
   runtime::Network network;
   if (!o.deployment.empty()) {
-    const runtime::Deployment d = runtime::load_deployment(o.deployment);
-    for (const runtime::Host& h : d.hosts)
+    const adapters::Deployment d = adapters::load_deployment(o.deployment);
+    for (const adapters::Host& h : d.hosts)
       if (!h.address.empty()) host_of[h.address] = h.name;
     if (!o.host.empty()) {
-      runtime::services_on(d, o.host);  // a host the file lacks is refused
+      adapters::services_on(d, o.host);  // a host the file lacks is refused
       network = runtime::network_of(d, o.host);
     }
   } else if (!o.host.empty()) {

@@ -31,9 +31,9 @@ std::string names(const std::set<std::string>& s) {
 int run_clock(Options options) {
   std::set<std::string> followers;
   if (!options.deployment.empty())
-    for (const auto& s : load_deployment(options.deployment).services)
-      if (s.unneeded.empty() && !observes(s)) followers.insert(s.name);
-  options.mode = Mode::kLockstep;
+    for (const auto& s : adapters::load_deployment(options.deployment).services)
+      if (s.unneeded.empty() && !adapters::observes(s)) followers.insert(s.name);
+  options.mode = adapters::Mode::kLockstep;
   Service svc(options);
   Writer<ClockTick> ticks(svc.participant());
   Reader<StepDone> done = svc.reader<StepDone>();

@@ -196,7 +196,7 @@ int run(const Options& options) {
   // free space (adapters::device::answer_covered) is touched after the others and
   // not answered: the device renders it without waiting, and the answers
   // it waits for go out first.
-  const bool realtime = svc.options().mode == Mode::kRealtime;
+  const bool realtime = svc.options().mode == adapters::Mode::kRealtime;
   std::uint64_t unanswered = 0;  // object-states left to a free-space answer
   const auto answer = [&](const HapticState& s, const StepStamp& stamp) {
     const std::int64_t t0 = mono_ns();
@@ -230,7 +230,7 @@ int run(const Options& options) {
   };
   const bool group = in_haptic_group(svc, device);
   std::unique_ptr<AnswerOnArrival> haptic;
-  if (svc.options().mode == Mode::kRealtime) {
+  if (svc.options().mode == adapters::Mode::kRealtime) {
     haptic = std::make_unique<AnswerOnArrival>(in, device, [&](const HapticState& s) { answer(s, answer_stamp(s)); });
     lower_below(svc.options().scheduling);  // the loop after the haptic answers; the visual worker lowers itself
   }
@@ -241,7 +241,7 @@ int run(const Options& options) {
   double next_frame = 0;
   const int status = svc.run([&](const Tick& tick) {
     const double now = tick.sim_time_ns * 1e-9;
-    if (svc.options().mode == Mode::kLockstep) {
+    if (svc.options().mode == adapters::Mode::kLockstep) {
       // In the group the device's state of this step is answered within
       // it; otherwise the latest state before it (one step behind).
       const auto keep = [&](const HapticState& s) {
@@ -278,7 +278,7 @@ int run(const Options& options) {
           std::lock_guard<PiMutex> l(*locks[k]);
           cages.push_back(items[k].model->cage());
         }
-        if (!visual.post(std::move(cages), svc.stamp(tick), svc.options().mode == Mode::kLockstep)) ++frames_dropped;
+        if (!visual.post(std::move(cages), svc.stamp(tick), svc.options().mode == adapters::Mode::kLockstep)) ++frames_dropped;
       }
     }
   });

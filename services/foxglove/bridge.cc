@@ -11,7 +11,7 @@
 
 #include "adapters/validate.h"
 #include "adapters/vision/media.h"
-#include "services/runtime/recording.h"
+#include "services/recording/recording.h"
 #include "services/runtime/service.h"
 #include "services/runtime/topics.h"
 #include "services/runtime/transport.h"
@@ -23,7 +23,7 @@ namespace {
 // The time a sample's messages carry: its stamp's wall time, else now.
 template <class T>
 std::uint64_t time_of(const T& s) {
-  if constexpr (runtime::detail::HasStamp<T>::value) {
+  if constexpr (recording::detail::HasStamp<T>::value) {
     if (s.stamp().wall_time_ns() > 0) return std::uint64_t(s.stamp().wall_time_ns());
   }
   return std::uint64_t(runtime::wall_ns());
@@ -52,7 +52,7 @@ Bridge::Bridge(runtime::Participant& p, Server& server, std::vector<adapters::fo
     using T = typename decltype(tag)::type;
     using Topic = runtime::TopicOf<T>;
     const std::uint32_t raw =
-        server_.advertise({Topic::name, "cdr", Topic::type_name, runtime::idl_schema(Topic::type_name), "omgidl"});
+        server_.advertise({Topic::name, "cdr", Topic::type_name, recording::idl_schema(Topic::type_name), "omgidl"});
     // Best effort ("control"): no writer waits for this reader. The latched
     // topology stays reliable and durable, as a mesh cannot be drawn without it.
     const std::string profile = std::is_same_v<T, MeshTopology> ? Topic::qos : "control";
@@ -95,7 +95,7 @@ void Bridge::take(T& s, std::uint32_t raw) {
   if (t > newest_ns_) newest_ns_ = t;
   if (server_.subscribed(raw)) {
     std::string framed(Server::kHeadroom, '\0');
-    runtime::append_cdr(s, framed);
+    recording::append_cdr(s, framed);
     server_.publish_framed(raw, t, std::move(framed));
   }
   if constexpr (std::is_same_v<T, MeshTopology>) {

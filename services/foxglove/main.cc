@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
   return runtime::service_main(
       "hcosim_foxglove", "the live Foxglove bridge: topics and scene channels over foxglove.websocket.v1", argc, argv,
       [](runtime::Options options) {
-        options.mode = runtime::Mode::kRealtime;
+        options.mode = adapters::Mode::kRealtime;
         runtime::Service svc(options);
         const adapters::Config& c = svc.params();
         c.allow_only({"port", "address", "jpeg_quality", "scene_rate", "client_limit_mb"});

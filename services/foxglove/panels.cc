@@ -7,7 +7,7 @@
 
 namespace hcosim::services::foxglove {
 
-std::vector<adapters::foxglove::Item> panel_items(const runtime::Deployment& d) {
+std::vector<adapters::foxglove::Item> panel_items(const adapters::Deployment& d) {
   std::vector<adapters::foxglove::Item> items;
   for (const YAML::Node& o : d.scene.objects) {
     adapters::foxglove::Item it;
@@ -19,14 +19,14 @@ std::vector<adapters::foxglove::Item> panel_items(const runtime::Deployment& d) 
   return items;
 }
 
-int marker_id(const runtime::Deployment& d) {
+int marker_id(const adapters::Deployment& d) {
   return d.scene.marker.IsMap() && d.scene.marker["id"] ? d.scene.marker["id"].as<int>() : 0;
 }
 
-runtime::Derive panel_channels(std::vector<adapters::foxglove::Item> items, adapters::foxglove::Options o) {
+recording::Derive panel_channels(std::vector<adapters::foxglove::Item> items, adapters::foxglove::Options o) {
   auto builder = std::make_shared<adapters::foxglove::Builder>(std::move(items), o);
-  return [builder](const runtime::Record& r) {
-    std::vector<runtime::Derived> out;
+  return [builder](const recording::Record& r) {
+    std::vector<recording::Derived> out;
     runtime::with_topic(r.topic, [&](auto tag) {
       using T = typename decltype(tag)::type;
       // Only what is drawn is read back from its bytes (not the 1 kHz forces).
@@ -34,7 +34,7 @@ runtime::Derive panel_channels(std::vector<adapters::foxglove::Item> items, adap
                              std::is_same_v<T, RigidBodyState> || std::is_same_v<T, HapticState> ||
                              std::is_same_v<T, MarkerPose> || std::is_same_v<T, CameraFrame>;
       if constexpr (drawn)
-        for (adapters::foxglove::Message& m : builder->on(runtime::from_cdr<T>(r.cdr)))
+        for (adapters::foxglove::Message& m : builder->on(recording::from_cdr<T>(r.cdr)))
           out.push_back({std::move(m.topic), m.schema, adapters::foxglove::schema_text(), std::move(m.cdr)});
     });
     return out;

@@ -5,19 +5,19 @@
 #include <string>
 #include <vector>
 
+#include "adapters/deployment.h"
 #include "adapters/foxglove/panels.h"
-#include "services/runtime/deployment.h"
-#include "services/runtime/recording.h"
+#include "services/recording/recording.h"
 
 namespace hcosim::services::foxglove {
 
 // The scene's objects in the file's order (the AR view's colours), a rigid
 // body's size as the rigid service reads it; the scene's marker id.
-std::vector<adapters::foxglove::Item> panel_items(const runtime::Deployment& d);
-int marker_id(const runtime::Deployment& d);
+std::vector<adapters::foxglove::Item> panel_items(const adapters::Deployment& d);
+int marker_id(const adapters::Deployment& d);
 
 // Each record's Foxglove messages. Not thread-safe: the recorder calls it
 // under its lock.
-runtime::Derive panel_channels(std::vector<adapters::foxglove::Item> items, adapters::foxglove::Options o);
+recording::Derive panel_channels(std::vector<adapters::foxglove::Item> items, adapters::foxglove::Options o);
 
 }  // namespace hcosim::services::foxglove

@@ -100,9 +100,9 @@ int run(const Options& options) {
   // for from the first step.
   const std::string name = svc.options().name;
   std::vector<std::string> group;
-  for (const ForceSource& fs : force_sources(svc.deployment(), name))
+  for (const adapters::ForceSource& fs : adapters::force_sources(svc.deployment(), name))
     if (fs.rate_hz == svc.options().rate_hz) group.push_back(fs.object);
-  const bool lockstep = svc.options().mode == Mode::kLockstep;
+  const bool lockstep = svc.options().mode == adapters::Mode::kLockstep;
 
   Writer<HapticState> out(svc.participant());
   Reader<ForceFeedback> in = svc.reader<ForceFeedback>();

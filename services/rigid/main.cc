@@ -100,7 +100,7 @@ int run(const Options& options) {
   std::vector<adapters::device::Feel> feels(items.size());
   std::vector<adapters::device::Feel> said(items.size());  // the last answer written per body
   std::vector<std::uint64_t> said_seq(items.size());       // the state it answered
-  const bool realtime = svc.options().mode == Mode::kRealtime;
+  const bool realtime = svc.options().mode == adapters::Mode::kRealtime;
   std::uint64_t unanswered = 0;  // body-states left to a free-space answer
   Window answer_us(1 << 16);
   // The haptic thread touches the bodies through their couplings, the loop
@@ -155,7 +155,7 @@ int run(const Options& options) {
   };
   const bool group = in_haptic_group(svc, device);
   std::unique_ptr<AnswerOnArrival> haptic;
-  if (svc.options().mode == Mode::kRealtime) {
+  if (svc.options().mode == adapters::Mode::kRealtime) {
     haptic = std::make_unique<AnswerOnArrival>(in, device, [&](const HapticState& s) { answer(s, answer_stamp(s)); });
     lower_below(svc.options().scheduling);  // the loop steps the bodies after the haptic answers
   }
@@ -168,7 +168,7 @@ int run(const Options& options) {
   double worst[4] = {0, 0, 0, 0};               // max divergences
   const int status = svc.run([&](const Tick& tick) {
     const double now = tick.sim_time_ns * 1e-9;
-    if (svc.options().mode == Mode::kLockstep) {
+    if (svc.options().mode == adapters::Mode::kLockstep) {
       const auto keep = [&](const HapticState& s) {
         if (s.device().to_string() == device) latest = s, have = true, state_time = now;
       };

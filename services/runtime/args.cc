@@ -112,7 +112,7 @@ CLI::Option* add_domain(CLI::App& app, int& domain) {
   return app.add_option("--domain", domain, "DDS domain id")
       ->option_text("D")
       ->envname("HCOSIM_DOMAIN")
-      ->check(CLI::Range(0, kMaxDomain));
+      ->check(CLI::Range(0, adapters::kMaxDomain));
 }
 
 void add_dds(CLI::App& app, DdsOptions& o) {

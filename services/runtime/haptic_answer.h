@@ -56,8 +56,8 @@ inline StepStamp answer_stamp(const HapticState& s) {
 // rate (the device's side: force_sources at its rate). Otherwise its
 // answers follow the Jacobi scheme (one step behind).
 inline bool in_haptic_group(const Service& svc, const std::string& device) {
-  if (svc.options().mode != Mode::kLockstep) return false;
-  for (const ServiceSpec& s : svc.deployment().services)
+  if (svc.options().mode != adapters::Mode::kLockstep) return false;
+  for (const adapters::ServiceSpec& s : svc.deployment().services)
     if (s.name == device && s.kind == "haptic" && s.unneeded.empty()) return s.rate_hz == svc.options().rate_hz;
   return false;
 }

@@ -45,15 +45,15 @@ eprosima::fastrtps::rtps::Locator_t udp_locator(const std::string& address, int 
 
 }  // namespace
 
-Network network_of(const Deployment& d, const std::string& host) {
+Network network_of(const adapters::Deployment& d, const std::string& host) {
   Network n;
   if (host.empty() || !d.network.defined) return n;
-  const NetworkSpec& spec = d.network;
+  const adapters::NetworkSpec& spec = d.network;
   n.discovery = spec.discovery;
   n.udp_only = spec.udp_only;
   n.socket_buffer_bytes = spec.socket_buffer_kib * 1024;
   n.bulk_bytes_per_s = spec.bulk_mbit * 1e6 / 8;
-  for (const Host& h : d.hosts) {
+  for (const adapters::Host& h : d.hosts) {
     if (spec.discovery == "peers") n.peers.push_back(h.address);
     if (spec.discovery == "server" && h.name == spec.server) n.server = h.address, n.server_port = spec.server_port;
     if (h.name != host) continue;

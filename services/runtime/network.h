@@ -8,7 +8,7 @@
 
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 
-#include "services/runtime/deployment.h"
+#include "adapters/deployment.h"
 
 namespace hcosim::services::runtime {
 
@@ -28,7 +28,7 @@ struct Network {
 // runs every service) or a file without a network section. A host given by interface is that
 // interface's IPv4 address on this machine. Throws std::runtime_error when
 // the interface has none here.
-Network network_of(const Deployment& d, const std::string& host);
+Network network_of(const adapters::Deployment& d, const std::string& host);
 
 // Sets `qos`'s transports and discovery to `n` (copies of the profile's
 // transport descriptors, changed).

@@ -29,8 +29,9 @@ Participant::Participant(int domain, const std::string& name, const std::string&
                          DomainParticipantListener* listener, bool lockstep, const Security& security,
                          const Network& network)
     : lockstep_(lockstep) {
-  if (domain < 0 || domain > kMaxDomain)
-    throw std::runtime_error("domain id " + std::to_string(domain) + " is outside 0.." + std::to_string(kMaxDomain));
+  if (domain < 0 || domain > adapters::kMaxDomain)
+    throw std::runtime_error("domain id " + std::to_string(domain) + " is outside 0.." +
+                             std::to_string(adapters::kMaxDomain));
   if (!std::ifstream(qos_file)) throw std::runtime_error("QoS profiles file " + qos_file + " cannot be read");
   auto* factory = DomainParticipantFactory::get_instance();
   // Loading the same file twice in one process is harmless: profiles are keyed by name.

@@ -12,14 +12,13 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 
+#include "adapters/deployment.h"
 #include "services/runtime/network.h"
 #include "services/runtime/security.h"
 #include "services/runtime/topics.h"
 
 namespace hcosim::services::runtime {
 
-// Highest domain id that fits Fast DDS's port formula (7400 + 250 * domain).
-inline constexpr int kMaxDomain = 232;
 // Highest participant id whose ports fit a domain's 250 (7400 + 250 * domain + 11 + 2 * id).
 inline constexpr int kMaxParticipantId = 119;
 

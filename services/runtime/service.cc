@@ -123,7 +123,7 @@ constexpr std::int64_t kTickWaitNs = 20'000'000'000;
 std::uint64_t steps_per_period(const Options& o) {
   const double ratio = 1.0 / (o.rate_hz * o.step_s);
   const double whole = std::round(ratio);
-  if (o.mode == Mode::kRealtime) return static_cast<std::uint64_t>(std::max(1.0, whole));
+  if (o.mode == adapters::Mode::kRealtime) return static_cast<std::uint64_t>(std::max(1.0, whole));
   if (whole < 1 || std::abs(ratio - whole) > 1e-6 * whole)
     throw std::invalid_argument("rate " + std::to_string(o.rate_hz) +
                                 " Hz is not a whole divisor of the base step rate " + std::to_string(1.0 / o.step_s) +
@@ -131,7 +131,7 @@ std::uint64_t steps_per_period(const Options& o) {
   return static_cast<std::uint64_t>(whole);
 }
 
-adapters::Config params_of(const Deployment& d, const std::string& name) {
+adapters::Config params_of(const adapters::Deployment& d, const std::string& name) {
   if (d.file.empty()) return adapters::Config("", YAML::Node());
   for (const auto& s : d.services)
     if (s.name == name) return adapters::Config(d.file, s.params);
@@ -143,7 +143,7 @@ adapters::Config params_of(const Deployment& d, const std::string& name) {
 // A lockstep step has no deadline: nothing to put first, and a FIFO
 // thread waiting on the clock would only hold a core from the others.
 std::string schedule(const Options& o) {
-  if (o.mode == Mode::kLockstep) return apply({0, o.scheduling.cpu}) + " (lockstep: no deadline)";
+  if (o.mode == adapters::Mode::kLockstep) return apply({0, o.scheduling.cpu}) + " (lockstep: no deadline)";
   return apply(o.scheduling);
 }
 
@@ -176,9 +176,11 @@ int service_main(const char* program, const char* what, int argc, char** argv,
           [](std::string& s) { return s.empty() || s.size() > 31 ? "needs 1 to 31 characters" : ""; }, ""));
   app.add_option("--rate", o.rate_hz, "step rate, Hz")->option_text("HZ")->required()->check(within(1e-6, 1e5));
   // No $HCOSIM_DOMAIN here, unlike the tools: a service is on the domain it is given.
-  app.add_option("--domain", o.domain, "DDS domain id (default 0)")->option_text("D")->check(CLI::Range(0, kMaxDomain));
+  app.add_option("--domain", o.domain, "DDS domain id (default 0)")
+      ->option_text("D")
+      ->check(CLI::Range(0, adapters::kMaxDomain));
   app.add_option_function<std::string>(
-         "--mode", [&](const std::string& m) { o.mode = parse_mode(m); },
+         "--mode", [&](const std::string& m) { o.mode = adapters::parse_mode(m); },
          "time: wall clock, or the lockstep clock's ticks")
       ->option_text("realtime|lockstep")
       ->check(CLI::IsMember({"realtime", "lockstep"}).description(""));
@@ -206,10 +208,12 @@ int service_main(const char* program, const char* what, int argc, char** argv,
 Service::Service(Options options)
     : options_(std::move(options)),
       period_steps_(steps_per_period(options_)),
-      deployment_(options_.deployment.empty() ? Deployment{} : load_deployment(options_.deployment)),
+      deployment_(options_.deployment.empty() ? adapters::Deployment{}
+                                              : adapters::load_deployment(options_.deployment)),
       scheduling_(schedule(options_)),
-      participant_(options_.domain, options_.name, options_.qos_file, &recordings_, options_.mode == Mode::kLockstep,
-                   Security{deployment_.security, options_.name}, network_of(deployment_, options_.host)),
+      participant_(options_.domain, options_.name, options_.qos_file, &recordings_,
+                   options_.mode == adapters::Mode::kLockstep, Security{deployment_.security, options_.name},
+                   network_of(deployment_, options_.host)),
       params_(params_of(deployment_, options_.name)),
       status_(participant_) {
   install_stop_handlers();
@@ -277,7 +281,7 @@ void Service::heartbeat(std::int64_t sim_time_ns, std::uint64_t step, Phase phas
 }
 
 int Service::run(const std::function<void(const Tick&)>& step) {
-  const int code = options_.mode == Mode::kLockstep ? run_lockstep(step) : run_realtime(step);
+  const int code = options_.mode == adapters::Mode::kLockstep ? run_lockstep(step) : run_realtime(step);
   heartbeat(std::int64_t(steps_ * period_steps_ * options_.step_s * 1e9), steps_ * period_steps_, Phase::kStopping);
   settle();
   return code;
@@ -422,7 +426,7 @@ int Service::run_lockstep(const std::function<void(const Tick&)>& step) {
 int guarded_main(const char* program, const std::function<int()>& body) {
   try {
     return body();
-  } catch (const ConfigError& e) {
+  } catch (const adapters::ConfigError& e) {
     std::cerr << program << ": " << e.what() << "\n";
     return 2;
   } catch (const std::invalid_argument& e) {

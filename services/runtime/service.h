@@ -9,8 +9,8 @@
 #include <optional>
 #include <string>
 
+#include "adapters/deployment.h"
 #include "adapters/validate.h"
-#include "services/runtime/deployment.h"
 #include "services/runtime/endpoint.h"
 #include "services/runtime/participant.h"
 #include "services/runtime/realtime.h"
@@ -21,17 +21,17 @@ namespace hcosim::services::runtime {
 
 // Command-line options shared by every service executable.
 struct Options {
-  std::string name;             // --name: service name, key of its ServiceStatus
-  int domain = 0;               // --domain
-  Mode mode = Mode::kRealtime;  // --mode realtime|lockstep
-  double rate_hz = 0;           // --rate: step rate, Hz (required)
-  double step_s = 0;            // --step: base step, s (default 1/rate)
-  double duration_s = 0;        // --duration: s; 0 = until stopped (realtime only)
-  std::string qos_file;         // --qos (default: default_qos_file())
-  std::string deployment;       // --deployment: file holding this service's params
-  std::string host;             // --host: its host in the deployment's hosts ("": one machine runs them all)
-  std::string out = "out";      // --out: folder for the files a service writes (videos, plots)
-  Scheduling scheduling;        // --priority (SCHED_FIFO 1..99, 0 normal), --cpu: real time only
+  std::string name;                                 // --name: service name, key of its ServiceStatus
+  int domain = 0;                                   // --domain
+  adapters::Mode mode = adapters::Mode::kRealtime;  // --mode realtime|lockstep
+  double rate_hz = 0;                               // --rate: step rate, Hz (required)
+  double step_s = 0;                                // --step: base step, s (default 1/rate)
+  double duration_s = 0;                            // --duration: s; 0 = until stopped (realtime only)
+  std::string qos_file;                             // --qos (default: default_qos_file())
+  std::string deployment;                           // --deployment: file holding this service's params
+  std::string host;         // --host: its host in the deployment's hosts ("": one machine runs them all)
+  std::string out = "out";  // --out: folder for the files a service writes (videos, plots)
+  Scheduling scheduling;    // --priority (SCHED_FIFO 1..99, 0 normal), --cpu: real time only
 };
 
 // A service's main: parses its command line into Options (CLI11; --help
@@ -72,7 +72,8 @@ class Service {
   // not depend on delivery order.
   template <class T, class F>
   std::size_t take(Reader<T>& r, const Tick& tick, F&& f) {
-    return options_.mode == Mode::kLockstep ? r.take_before(tick.step, std::forward<F>(f)) : r.take(std::forward<F>(f));
+    return options_.mode == adapters::Mode::kLockstep ? r.take_before(tick.step, std::forward<F>(f))
+                                                      : r.take(std::forward<F>(f));
   }
 
   // This service's params from the deployment file (empty without one).
@@ -126,7 +127,7 @@ class Service {
   void heartbeat(std::int64_t sim_time_ns, std::uint64_t step, Phase phase = Phase::kRunning);
 
   const Options& options() const { return options_; }
-  const Deployment& deployment() const { return deployment_; }
+  const adapters::Deployment& deployment() const { return deployment_; }
   Participant& participant() { return participant_; }
 
  private:
@@ -135,10 +136,10 @@ class Service {
   void wait_for_recordings();
 
   Options options_;
-  std::uint64_t period_steps_;  // base steps per service step
-  Deployment deployment_;       // --deployment's file (empty without one)
-  std::string scheduling_;      // before the participant, whose threads inherit it
-  Recordings recordings_;       // the participant's discovery listener
+  std::uint64_t period_steps_;       // base steps per service step
+  adapters::Deployment deployment_;  // --deployment's file (empty without one)
+  std::string scheduling_;           // before the participant, whose threads inherit it
+  Recordings recordings_;            // the participant's discovery listener
   Participant participant_;
   adapters::Config params_;
   Writer<ServiceStatus> status_;

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "adapters/validate.h"
-#include "services/runtime/recording.h"
+#include "services/recording/recording.h"
 #include "tests/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -16,7 +16,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     hcosim::services::runtime::for_each_topic([&](auto tag) {
       using T = typename decltype(tag)::type;
       if (k++ == data[0] % std::tuple_size_v<hcosim::services::runtime::AllTypes>)
-        hcosim::adapters::validate(hcosim::services::runtime::from_cdr<T>(payload));
+        hcosim::adapters::validate(hcosim::services::recording::from_cdr<T>(payload));
     });
   });
 }

@@ -27,7 +27,7 @@ T read(const Message& m) {
 }
 
 ::foxglove::SceneUpdate update(const Message& m) {
-  EXPECT_STREQ(m.schema, "::foxglove::SceneUpdate");
+  EXPECT_STREQ(m.schema, "foxglove::SceneUpdate");
   return read<::foxglove::SceneUpdatePubSubType, ::foxglove::SceneUpdate>(m);
 }
 
@@ -152,7 +152,7 @@ TEST(Panels, TheCameraSitsWhereTheMarkerSeenFromItSays) {
   const std::vector<Message> out = b.on(p);
   ASSERT_EQ(out.size(), 1u);
   EXPECT_EQ(out[0].topic, "tf");
-  EXPECT_STREQ(out[0].schema, "::foxglove::FrameTransforms");
+  EXPECT_STREQ(out[0].schema, "foxglove::FrameTransforms");
   const auto tf = read<::foxglove::FrameTransformsPubSubType, ::foxglove::FrameTransforms>(out[0]);
   ASSERT_EQ(tf.transforms().size(), 1u);
   const ::foxglove::FrameTransform& t = tf.transforms()[0];

@@ -15,10 +15,11 @@
 namespace hcosim::services::cli {
 namespace {
 
-using runtime::Mode;
-using runtime::OnFailure;
+using adapters::Mode;
+using adapters::OnFailure;
 
-Child shell(const std::string& name, const std::string& script, OnFailure policy = OnFailure::kStopAll) {
+Child shell(const std::string& name, const std::string& script,
+            adapters::OnFailure policy = adapters::OnFailure::kStopAll) {
   return Child{name, "/bin/sh", {"-c", script}, policy};
 }
 
@@ -45,7 +46,7 @@ std::string read(const std::filesystem::path& p) {
 
 TEST(Supervisor, AServiceThatFinishesEndsARealtimeRun) {
   tests::TempDir dir;
-  Supervisor s(dir.path, Mode::kRealtime);
+  Supervisor s(dir.path, adapters::Mode::kRealtime);
   s.start(shell("a", "echo hello"));
   s.start(shell("b", "sleep 30"));
   std::string said;
@@ -58,11 +59,11 @@ TEST(Supervisor, AServiceThatFinishesEndsARealtimeRun) {
 
 TEST(Supervisor, RestartsAFailedServiceUpToTheLimitKeepingItsLog) {
   tests::TempDir dir;
-  Supervisor s(dir.path, Mode::kRealtime);
-  s.start(shell("a", "echo boom; exit 3", OnFailure::kRestart));
+  Supervisor s(dir.path, adapters::Mode::kRealtime);
+  s.start(shell("a", "echo boom; exit 3", adapters::OnFailure::kRestart));
   std::string said;
   EXPECT_EQ(run_until_end(s, said, kRan), "service 'a' ended (exit status 3) after 3 restarts");
-  EXPECT_EQ(s.children()[0].restarts, runtime::kMaxRestarts);
+  EXPECT_EQ(s.children()[0].restarts, adapters::kMaxRestarts);
   EXPECT_NE(said.find("service 'a' ended (exit status 3); restarting it (3 of 3)\n  a: boom\n"), std::string::npos)
       << said;
   const std::string log = read(s.log_of("a"));
@@ -77,8 +78,8 @@ TEST(Supervisor, RestartsAFailedServiceUpToTheLimitKeepingItsLog) {
 
 TEST(Supervisor, ARefusedConfigurationIsNotRestarted) {
   tests::TempDir dir;
-  Supervisor s(dir.path, Mode::kRealtime);
-  s.start(shell("a", "echo 'a.yaml:3:5: unknown key' >&2; exit 2", OnFailure::kRestart));
+  Supervisor s(dir.path, adapters::Mode::kRealtime);
+  s.start(shell("a", "echo 'a.yaml:3:5: unknown key' >&2; exit 2", adapters::OnFailure::kRestart));
   std::string said;
   EXPECT_EQ(run_until_end(s, said, [](const std::string&) { return false; }),
             "service 'a' ended (exit status 2 before its loop ran; a refused configuration is not restarted)");
@@ -88,8 +89,8 @@ TEST(Supervisor, ARefusedConfigurationIsNotRestarted) {
 
 TEST(Supervisor, AnIgnoredFailureLetsTheOthersRunOnAndStillFailsTheRun) {
   tests::TempDir dir;
-  Supervisor s(dir.path, Mode::kRealtime);
-  s.start(shell("a", "exit 4", OnFailure::kIgnore));
+  Supervisor s(dir.path, adapters::Mode::kRealtime);
+  s.start(shell("a", "exit 4", adapters::OnFailure::kIgnore));
   s.start(shell("b", "sleep 30"));
   std::string said;
   const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
@@ -105,7 +106,7 @@ TEST(Supervisor, AnIgnoredFailureLetsTheOthersRunOnAndStillFailsTheRun) {
 
 TEST(Supervisor, KillsAServiceThatIgnoresSigterm) {
   tests::TempDir dir;
-  Supervisor s(dir.path, Mode::kRealtime);
+  Supervisor s(dir.path, adapters::Mode::kRealtime);
   s.start(shell("deaf", "trap '' TERM; echo ready; while :; do sleep 0.05; done"));
   while (read(s.log_of("deaf")).empty()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
   const auto t0 = std::chrono::steady_clock::now();
@@ -121,7 +122,7 @@ TEST(Supervisor, KillsAServiceThatIgnoresSigterm) {
 
 TEST(Supervisor, InLockstepTheClocksExitEndsTheRun) {
   tests::TempDir dir;
-  Supervisor s(dir.path, Mode::kLockstep);
+  Supervisor s(dir.path, adapters::Mode::kLockstep);
   s.start(shell("follower", "exit 0"));
   s.start(shell("clock", "sleep 0.3"));
   std::string said;
@@ -136,7 +137,7 @@ TEST(Supervisor, InLockstepTheClocksExitEndsTheRun) {
 // period for it, and stop() ends it.
 TEST(Supervisor, InLockstepTheRunsEndDoesNotWaitForAnObserver) {
   tests::TempDir dir;
-  Supervisor s(dir.path, Mode::kLockstep);
+  Supervisor s(dir.path, adapters::Mode::kLockstep);
   s.start(shell("follower", "exit 0"));
   Child observer = shell("fox", "exec sleep 30");
   observer.observer = true;

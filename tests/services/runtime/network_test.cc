@@ -25,14 +25,14 @@ using eprosima::fastdds::rtps::SharedMemTransportDescriptor;
 using eprosima::fastdds::rtps::UDPv4TransportDescriptor;
 
 // Three hosts, the camera's given by its interface (lo), unless `camera` is off.
-Deployment rig(const std::string& network, bool camera = true) {
+adapters::Deployment rig(const std::string& network, bool camera = true) {
   const std::string path = "/tmp/hcosim_" + std::to_string(getpid()) + "_rig.yaml";
   std::ofstream(path) << "network: " << network << R"(
 hosts:
   - {name: device, address: 10.1.0.1}
   - {name: sim, address: 10.1.0.2, clock: on}
 )" << (camera ? "  - {name: camera, interface: lo}\n" : "");
-  Deployment d = load_deployment(path);
+  adapters::Deployment d = adapters::load_deployment(path);
   std::remove(path.c_str());
   return d;
 }
@@ -118,7 +118,7 @@ TEST(Network, TheBulkCapIsAFlowControllerOfItsRate) {
 TEST(Network, AHostByInterfaceIsThatInterfacesAddressHere) {
   const Network n = network_of(rig("{discovery: multicast}"), "camera");
   EXPECT_EQ(n.address, "127.0.0.1");
-  Deployment d = rig("{discovery: multicast}");
+  adapters::Deployment d = rig("{discovery: multicast}");
   d.hosts[2].interface = "hcosim_none0";
   EXPECT_THROW(network_of(d, "camera"), std::runtime_error);
 }

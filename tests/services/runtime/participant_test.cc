@@ -26,7 +26,8 @@ TEST(Participant, RefusesABadDomainAndQosFile) {
 // Linux's default ephemeral ports are 32768 to 60999: a domain's 250
 // ports from 7400 + 250 * domain meet them from domain 101 to 214.
 TEST(Participant, SaysWhichDomainsPortsMeetTheEphemeralOnes) {
-  for (const int clear : {0, 100, 215, kMaxDomain}) EXPECT_FALSE(in_ephemeral_range(clear, 32768, 60999)) << clear;
+  for (const int clear : {0, 100, 215, adapters::kMaxDomain})
+    EXPECT_FALSE(in_ephemeral_range(clear, 32768, 60999)) << clear;
   for (const int inside : {101, 168, 214}) EXPECT_TRUE(in_ephemeral_range(inside, 32768, 60999)) << inside;
   EXPECT_FALSE(in_ephemeral_range(168, 0, -1)) << "a range that could not be read warns of nothing";
   const auto [lo, hi] = ephemeral_ports();

@@ -48,7 +48,7 @@ TEST(Options, ParsesAndDefaultsTheStep) {
   ASSERT_EQ(main_of({"svc", "--name", "a", "--rate", "250", "--domain", "9", "--mode", "lockstep"}, &o), 0);
   EXPECT_EQ(o.name, "a");
   EXPECT_EQ(o.domain, 9);
-  EXPECT_EQ(o.mode, Mode::kLockstep);
+  EXPECT_EQ(o.mode, adapters::Mode::kLockstep);
   EXPECT_DOUBLE_EQ(o.step_s, 0.004);
   EXPECT_EQ(o.qos_file, default_qos_file());
 }
@@ -80,7 +80,7 @@ TEST(Options, HelpRunsNothing) {
 TEST(Service, LockstepRateMustDivideTheBaseStep) {
   Options o = options(300, 0);
   o.step_s = 0.001;
-  o.mode = Mode::kLockstep;
+  o.mode = adapters::Mode::kLockstep;
   EXPECT_THROW(Service s(o), std::invalid_argument);
 }
 

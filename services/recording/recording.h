@@ -1,6 +1,6 @@
 // Recordings: samples of the topic contract as they were on the wire (CDR),
 // each with its topic, step, simulated time and receive time, in one file:
-// hcosim's own format, or MCAP (services/runtime/mcap.h) with each topic a
+// hcosim's own format, or MCAP (services/recording/mcap.h) with each topic a
 // channel and its IDL type the channel's schema. Both in docs/recording.md.
 #pragma once
 
@@ -16,12 +16,12 @@
 #include <type_traits>
 #include <vector>
 
+#include "services/recording/mcap.h"
 #include "services/runtime/endpoint.h"
-#include "services/runtime/mcap.h"
 #include "services/runtime/participant.h"
 #include "services/runtime/topics.h"
 
-namespace hcosim::services::runtime {
+namespace hcosim::services::recording {
 
 struct Record {
   std::string topic;
@@ -109,8 +109,8 @@ class RecordingReader {
 // serialization (most of a live bridge's CPU, bench foxglove). For
 // serializing only: its getKey keeps state between calls (export.cc).
 template <class T>
-typename TopicOf<T>::PubSub& type_support() {
-  static thread_local typename TopicOf<T>::PubSub type;
+typename runtime::TopicOf<T>::PubSub& type_support() {
+  static thread_local typename runtime::TopicOf<T>::PubSub type;
   return type;
 }
 
@@ -120,7 +120,7 @@ std::vector<std::uint8_t> to_cdr(const T& sample) {
   auto& type = type_support<T>();
   eprosima::fastrtps::rtps::SerializedPayload_t payload(type.getSerializedSizeProvider(const_cast<T*>(&sample))());
   if (!type.serialize(const_cast<T*>(&sample), &payload))
-    throw std::runtime_error(std::string("cannot serialize a ") + TopicOf<T>::name);
+    throw std::runtime_error(std::string("cannot serialize a ") + runtime::TopicOf<T>::name);
   return {payload.data, payload.data + payload.length};
 }
 
@@ -136,7 +136,7 @@ void append_cdr(const T& sample, std::string& out) {
   payload.length = 0;
   payload.pos = 0;
   if (!type.serialize(const_cast<T*>(&sample), &payload))
-    throw std::runtime_error(std::string("cannot serialize a ") + TopicOf<T>::name);
+    throw std::runtime_error(std::string("cannot serialize a ") + runtime::TopicOf<T>::name);
   out.append(reinterpret_cast<const char*>(payload.data), payload.length);
 }
 
@@ -148,7 +148,7 @@ T from_cdr(const std::vector<std::uint8_t>& bytes) {
   payload.length = std::uint32_t(bytes.size());
   T sample;
   if (!type.deserialize(&payload, &sample))
-    throw std::runtime_error(std::string("a recorded ") + TopicOf<T>::name + " does not deserialize");
+    throw std::runtime_error(std::string("a recorded ") + runtime::TopicOf<T>::name + " does not deserialize");
   return sample;
 }
 
@@ -167,7 +167,7 @@ struct HasStep<T, std::void_t<decltype(std::declval<const T&>().step())>> : std:
 template <class T>
 Record make_record(const T& s, std::int64_t receive_ns) {
   Record r;
-  r.topic = TopicOf<T>::name;
+  r.topic = runtime::TopicOf<T>::name;
   if constexpr (detail::HasStamp<T>::value) {
     r.step = s.stamp().step();
     r.sim_time_ns = s.stamp().sim_time_ns();
@@ -193,11 +193,11 @@ class Recorder {
  public:
   // `topics` empty: every topic. Throws std::invalid_argument naming an
   // unknown topic, std::runtime_error when the file cannot be written.
-  Recorder(Participant& p, const std::string& path, const std::vector<std::string>& topics)
+  Recorder(runtime::Participant& p, const std::string& path, const std::vector<std::string>& topics)
       : Recorder(p, path, topics, format_of(path), McapCompression::zstd) {}
   // `derive` (MCAP only): messages each record gives, written after it.
-  Recorder(Participant& p, const std::string& path, const std::vector<std::string>& topics, RecordingFormat format,
-           McapCompression compression, Derive derive = nullptr);
+  Recorder(runtime::Participant& p, const std::string& path, const std::vector<std::string>& topics,
+           RecordingFormat format, McapCompression compression, Derive derive = nullptr);
   ~Recorder();
   // Stops recording, writes what is left and closes the file. Throws
   // std::runtime_error when writing it failed.
@@ -242,4 +242,4 @@ class Recorder {
   std::thread thread_;
 };
 
-}  // namespace hcosim::services::runtime
+}  // namespace hcosim::services::recording

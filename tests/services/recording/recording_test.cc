@@ -2,7 +2,7 @@
 // with their topic, step, simulated and receive times; an MCAP recording's
 // channels carry each topic's IDL type as a self-contained schema, and a
 // file from elsewhere is read for the contract's topics only.
-#include "services/runtime/recording.h"
+#include "services/recording/recording.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -11,7 +11,7 @@
 
 #include "tests/support/temp_dir.h"
 
-namespace hcosim::services::runtime {
+namespace hcosim::services::recording {
 namespace {
 
 std::string recording_temp(const std::string& name) {
@@ -145,4 +145,4 @@ TEST(Recording, AForeignMcapIsReadForTheContractsTopicsOnly) {
 }
 
 }  // namespace
-}  // namespace hcosim::services::runtime
+}  // namespace hcosim::services::recording

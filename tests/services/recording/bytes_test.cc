@@ -1,12 +1,12 @@
 // Little-endian values in byte strings: the layout the recording formats
 // and MCAP specify, and what is written reads back.
-#include "services/runtime/bytes.h"
+#include "services/recording/bytes.h"
 
 #include <cstdint>
 
 #include <gtest/gtest.h>
 
-namespace hcosim::services::runtime {
+namespace hcosim::services::recording {
 namespace {
 
 TEST(Bytes, ValuesAreLaidOutLowByteFirstAndReadBack) {
@@ -24,4 +24,4 @@ TEST(Bytes, ValuesAreLaidOutLowByteFirstAndReadBack) {
 }
 
 }  // namespace
-}  // namespace hcosim::services::runtime
+}  // namespace hcosim::services::recording

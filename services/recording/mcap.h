@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace hcosim::services::runtime {
+namespace hcosim::services::recording {
 
 enum class McapCompression { none, zstd, lz4 };
 const char* name(McapCompression c);  // as MCAP spells it: "", "zstd", "lz4"
@@ -110,4 +110,4 @@ class McapReader {
   std::map<std::uint16_t, McapChannel> channels_;
 };
 
-}  // namespace hcosim::services::runtime
+}  // namespace hcosim::services::recording

@@ -1,4 +1,4 @@
-#include "services/runtime/recording.h"
+#include "services/recording/recording.h"
 
 #include <chrono>
 #include <cstdio>
@@ -6,10 +6,10 @@
 #include <stdexcept>
 
 #include "idl/schemas.h"
-#include "services/runtime/bytes.h"
+#include "services/recording/bytes.h"
 #include "services/runtime/service.h"
 
-namespace hcosim::services::runtime {
+namespace hcosim::services::recording {
 namespace {
 
 // Samples of a few hundred bytes arrive at up to a few kHz: a recorder's
@@ -75,7 +75,7 @@ void RecordingWriter::write(const Record& r) {
     auto it = channels_.find(r.topic);
     if (it == channels_.end()) {
       std::string type;
-      with_topic(r.topic, [&](auto tag) { type = TopicOf<typename decltype(tag)::type>::type_name; });
+      runtime::with_topic(r.topic, [&](auto tag) { type = runtime::TopicOf<typename decltype(tag)::type>::type_name; });
       if (type.empty()) throw std::invalid_argument("a record of no contract topic '" + r.topic + "'");
       const std::uint16_t schema = mcap_->add_schema(type, "omgidl", idl_schema(type));
       it = channels_.emplace(r.topic, std::make_pair(mcap_->add_channel(schema, r.topic, "cdr"), 0u)).first;
@@ -150,7 +150,7 @@ bool RecordingReader::next_mcap(Record& r) {
   for (McapMessage m; mcap_->next(m);) {
     const McapChannel& c = mcap_->channels().at(m.channel);
     std::string type;
-    with_topic(c.topic, [&](auto tag) { type = TopicOf<typename decltype(tag)::type>::type_name; });
+    runtime::with_topic(c.topic, [&](auto tag) { type = runtime::TopicOf<typename decltype(tag)::type>::type_name; });
     if (type.empty() || c.message_encoding != "cdr") {
       // The scene channels hcosim writes beside the topics are derived from them.
       const auto schema = mcap_->schemas().find(c.schema_id);
@@ -167,7 +167,7 @@ bool RecordingReader::next_mcap(Record& r) {
     r.publish_ns = std::int64_t(m.publish_time);
     r.cdr = std::move(m.data);
     r.step = 0, r.sim_time_ns = 0;
-    with_topic(c.topic, [&](auto tag) {
+    runtime::with_topic(c.topic, [&](auto tag) {
       using T = typename decltype(tag)::type;
       const T s = from_cdr<T>(r.cdr);
       if constexpr (detail::HasStamp<T>::value) {
@@ -207,26 +207,27 @@ bool RecordingReader::next(Record& r) {
   return true;
 }
 
-Recorder::Recorder(Participant& p, const std::string& path, const std::vector<std::string>& topics,
+Recorder::Recorder(runtime::Participant& p, const std::string& path, const std::vector<std::string>& topics,
                    RecordingFormat format, McapCompression compression, Derive derive)
     : path_(path),
       writer_(path, format, compression),
       derive_(format == RecordingFormat::mcap ? std::move(derive) : nullptr) {
   for (const std::string& t : topics) {
-    if (!with_topic(t, [](auto) {})) throw std::invalid_argument("unknown topic '" + t + "'");
+    if (!runtime::with_topic(t, [](auto) {})) throw std::invalid_argument("unknown topic '" + t + "'");
   }
-  for_each_topic([&](auto tag) {
+  runtime::for_each_topic([&](auto tag) {
     using T = typename decltype(tag)::type;
-    if (!topics.empty() && std::find(topics.begin(), topics.end(), TopicOf<T>::name) == topics.end()) return;
+    if (!topics.empty() && std::find(topics.begin(), topics.end(), runtime::TopicOf<T>::name) == topics.end()) return;
     // No validation: a recording keeps what was on the wire, bad samples included.
-    auto reader = std::make_shared<Reader<T>>(p, nullptr, nullptr, TopicOf<T>::qos, kMonitorDepth);
-    auto take = [this, r = reader.get()] { r->take([&](const T& s) { push(make_record(s, wall_ns())); }); };
+    auto reader =
+        std::make_shared<runtime::Reader<T>>(p, nullptr, nullptr, runtime::TopicOf<T>::qos, runtime::kMonitorDepth);
+    auto take = [this, r = reader.get()] { r->take([&](const T& s) { push(make_record(s, runtime::wall_ns())); }); };
     reader->on_arrival(take);
     topics_.push_back({[reader, take] {
                          reader->on_arrival(nullptr);
                          take();
                        },
-                       [reader] { return reader->lost(); }, TopicOf<T>::name});
+                       [reader] { return reader->lost(); }, runtime::TopicOf<T>::name});
   });
   // Last, so that nothing above throws with it running; what arrives
   // before it starts waits in the queue.
@@ -335,4 +336,4 @@ void Recorder::close() {
   writer_.close();
 }
 
-}  // namespace hcosim::services::runtime
+}  // namespace hcosim::services::recording

@@ -11,11 +11,10 @@
 
 #include "adapters/config.h"
 
-namespace hcosim::services::runtime {
+namespace hcosim::adapters {
 
-// Configuration errors name FILE:LINE:COL (adapters/config.h).
-using adapters::config_error;
-using adapters::ConfigError;
+// Highest domain id that fits Fast DDS's port formula (7400 + 250 * domain).
+inline constexpr int kMaxDomain = 232;
 
 enum class Mode { kRealtime, kLockstep };
 const char* to_string(Mode m);
@@ -132,4 +131,4 @@ struct ForceSource {
 // Every source answering `device` in `d`, in file order.
 std::vector<ForceSource> force_sources(const Deployment& d, const std::string& device);
 
-}  // namespace hcosim::services::runtime
+}  // namespace hcosim::adapters

@@ -7,7 +7,7 @@
 #include <string>
 #include <type_traits>
 
-namespace hcosim::services::runtime {
+namespace hcosim::services::recording {
 
 // Appends v's bytes to out.
 template <class U>
@@ -28,4 +28,4 @@ U read_le(const char*& p) {
   return v;
 }
 
-}  // namespace hcosim::services::runtime
+}  // namespace hcosim::services::recording

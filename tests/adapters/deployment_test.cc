@@ -3,10 +3,10 @@
 
 #include <gtest/gtest.h>
 
-#include "services/runtime/deployment.h"
+#include "adapters/deployment.h"
 #include "tests/support/temp_dir.h"
 
-namespace hcosim::services::runtime {
+namespace hcosim::adapters {
 namespace {
 
 // `text` as `name` in this process's folder of files, removed at its exit.
@@ -312,4 +312,4 @@ TEST(Deployment, AServicesErrorAboutASceneObjectNamesItsLine) {
 }
 
 }  // namespace
-}  // namespace hcosim::services::runtime
+}  // namespace hcosim::adapters

@@ -4,7 +4,7 @@
 // through the reader), and corrupt, cut-short and foreign files are named
 // with the place they go wrong. An independent reader, MCAP's own
 // @mcap/core, reads hcosim's recordings in integration.mcap.
-#include "services/runtime/mcap.h"
+#include "services/recording/mcap.h"
 
 #include <cstdio>
 #include <cstring>
@@ -16,7 +16,7 @@
 
 #include "tests/support/temp_dir.h"
 
-namespace hcosim::services::runtime {
+namespace hcosim::services::recording {
 namespace {
 
 std::string mcap_temp(const std::string& name) {
@@ -161,4 +161,4 @@ TEST(Mcap, CorruptCutShortAndForeignFilesAreNamed) {
 }
 
 }  // namespace
-}  // namespace hcosim::services::runtime
+}  // namespace hcosim::services::recording

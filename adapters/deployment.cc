@@ -1,4 +1,4 @@
-#include "services/runtime/deployment.h"
+#include "adapters/deployment.h"
 
 #include <arpa/inet.h>
 
@@ -10,15 +10,9 @@
 #include <regex>
 #include <set>
 
-#include "services/runtime/participant.h"
-
 namespace fs = std::filesystem;
 
-namespace hcosim::services::runtime {
-
-using adapters::Config;
-using adapters::config_where;
-using adapters::join;
+namespace hcosim::adapters {
 
 namespace {
 
@@ -380,4 +374,4 @@ std::vector<const ServiceSpec*> services_on(const Deployment& d, const std::stri
   return out;
 }
 
-}  // namespace hcosim::services::runtime
+}  // namespace hcosim::adapters

@@ -1,4 +1,4 @@
-#include "services/runtime/mcap.h"
+#include "services/recording/mcap.h"
 
 #include <algorithm>
 #include <cstring>
@@ -9,9 +9,9 @@
 #include <zlib.h>
 #include <zstd.h>
 
-#include "services/runtime/bytes.h"
+#include "services/recording/bytes.h"
 
-namespace hcosim::services::runtime {
+namespace hcosim::services::recording {
 namespace {
 
 constexpr char kMcapMagic[8] = {'\x89', 'M', 'C', 'A', 'P', '0', '\r', '\n'};
@@ -455,4 +455,4 @@ bool McapReader::next(McapMessage& m) {
   }
 }
 
-}  // namespace hcosim::services::runtime
+}  // namespace hcosim::services::recording
