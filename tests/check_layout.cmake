@@ -6,11 +6,15 @@
 #   adapters/ and idl/; services/ anything but tests/;
 # - a file in LAYER/AREA/ (or LAYER/ itself) opens only namespaces under
 #   hcosim::LAYER::AREA (hcosim::LAYER), so a model and its adapter never
-#   share one; a service's main.cc may open none;
+#   share one; a service's main.cc opens none;
 # - unit tests mirror the sources: tests/LAYER/AREA/NAME_test.cc tests
 #   LAYER/AREA/NAME.h (or .cc) and opens the namespaces of that path;
 #   tests/support/ opens hcosim::tests;
-# - no source in models/ is over 500 lines: one area per file.
+# - no source in models/ is over 500 lines: one area per file;
+# - no function in services/ is over 120 lines: a service's main.cc
+#   wires its loop's class to its topics. A function is counted from its
+#   first line at column 0 to the `}` that closes it there, as
+#   .clang-format lays it out (members defined inside a class are not).
 set(bad "")
 set(count 0)
 foreach(layer models adapters services tests)
@@ -42,6 +46,31 @@ foreach(layer models adapters services tests)
         list(APPEND bad "${f}: a DDS header in models/: ${dds}")
       endif()
     endif()
+    if(layer STREQUAL "services")
+      # Lines as list items: semicolons and brackets would split or join them.
+      file(READ "${ROOT}/${f}" text)
+      string(REPLACE ";" "@SEMI@" text "${text}")
+      string(REPLACE "[" "(" text "${text}")
+      string(REPLACE "]" ")" text "${text}")
+      string(REPLACE "\n" ";" text "${text}")
+      set(at 0)
+      set(start "")
+      foreach(line IN LISTS text)
+        math(EXPR at "${at} + 1")
+        if(start STREQUAL "" AND line MATCHES "^[A-Za-z_]" AND NOT line MATCHES "@SEMI@$"
+           AND NOT line MATCHES "^(namespace|struct|class|enum|union|extern|template|using|typedef) ")
+          set(start ${at})
+        elseif(NOT start STREQUAL "" AND line STREQUAL "}")
+          math(EXPR length "${at} - ${start} + 1")
+          if(length GREATER 120)
+            list(APPEND bad "${f}:${start}: a function of ${length} lines (at most 120 in services/)")
+          endif()
+          set(start "")
+        elseif(line MATCHES "^}")
+          set(start "")
+        endif()
+      endforeach()
+    endif()
     # The path whose namespace the file opens: its own, or the source a unit test mirrors.
     set(path "")
     if(NOT layer STREQUAL "tests")
@@ -63,7 +92,7 @@ foreach(layer models adapters services tests)
         set(want "hcosim::${top}")
       else()
         list(GET parts 1 area)
-        if(top STREQUAL "services" AND NOT area MATCHES "^(runtime|recording|bench|cli|report|foxglove)$")
+        if(top STREQUAL "services" AND path MATCHES "/main\\.cc$")
           set(want "")  # a service's main.cc
         else()
           set(want "hcosim::${top}::${area}")

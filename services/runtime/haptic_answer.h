@@ -6,6 +6,8 @@
 #pragma once
 
 #include <chrono>
+#include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -41,6 +43,17 @@ class AnswerOnArrival {
   Reader<HapticState>& in_;
   std::string device_;
   Answer answer_;
+};
+
+// What a force source's answers cost and left out, for its closing lines.
+struct AnswerStats {
+  Window us{1 << 16};            // answering one state, every object of the source
+  std::uint64_t unanswered = 0;  // (object, state) pairs left to a free-space answer
+  // "SERVICE: N WHAT-states left to a free-space answer".
+  void report_unanswered(std::FILE* out, const std::string& service, const char* what) const {
+    std::fprintf(out, "%s: %llu %s-states left to a free-space answer\n", service.c_str(),
+                 static_cast<unsigned long long>(unanswered), what);
+  }
 };
 
 // The stamp of an answer computed on arrival: the step and simulated time
@@ -92,6 +105,21 @@ void take_state_of_step(Service& svc, Reader<HapticState>& in, Writer<ForceFeedb
     if (mono_ns() > deadline) throw late("the answers' writer has not matched a reader of");
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
+}
+
+// Lockstep: passes `keep` each of `device`'s states this step sees: in its
+// Gauss-Seidel group (`group`, in_haptic_group) the state of this step
+// (take_state_of_step), otherwise those before it, one step behind.
+template <class F>
+void take_device_states(Service& svc, Reader<HapticState>& in, Writer<ForceFeedback>& answers, const Tick& tick,
+                        const std::string& device, bool group, F&& keep) {
+  const auto mine = [&](const HapticState& s) {
+    if (s.device().to_string() == device) keep(s);
+  };
+  if (group)
+    take_state_of_step(svc, in, answers, tick, device, mine);
+  else
+    svc.take(in, tick, mine);
 }
 
 }  // namespace hcosim::services::runtime
