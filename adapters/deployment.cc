@@ -10,6 +10,8 @@
 #include <regex>
 #include <set>
 
+#include "adapters/device/device_config.h"
+
 namespace fs = std::filesystem;
 
 namespace hcosim::adapters {
@@ -20,7 +22,7 @@ ServiceSpec parse_service(const Config& c) {
   const std::string& file = c.file();
   const YAML::Node& node = c.node();
   if (!node.IsMap()) c.fail("", "each service must be a map with name, kind and rate");
-  c.allow_only({"name", "kind", "rate", "params", "on_failure", "objects", "priority", "cpu", "host"});
+  c.allow_only(keys::kService);
   c.require({"name", "kind", "rate"}, "service");
   ServiceSpec s;
   s.line = node.Mark().line + 1;
@@ -66,7 +68,7 @@ void parse_hosts(const Config& root, Deployment& d) {
   std::string clock_where;                        // of the host that says clock: on
   for (const Config& h : root.list("hosts")) {
     if (!h.node().IsMap()) h.fail("", "each host must be a map with name and address or interface");
-    h.allow_only({"name", "address", "interface", "clock"});
+    h.allow_only(keys::kHost);
     h.require({"name"}, "host");
     Host host;
     host.name = h.string("name", "");
@@ -108,7 +110,7 @@ void parse_hosts(const Config& root, Deployment& d) {
 void parse_network(const Config& root, Deployment& d) {
   if (!root.node()["network"].IsMap()) root.fail("network", "'network' must be a map (docs/deployment.md)");
   const Config n = root.map("network");
-  n.allow_only({"discovery", "server", "server_port", "transport", "socket_buffer_kib", "bulk_mbit"});
+  n.allow_only(keys::kNetwork);
   if (d.hosts.empty()) root.fail("network", "'network' is for a rig of several hosts: the file has no hosts: list");
   NetworkSpec& net = d.network;
   net.defined = true;
@@ -165,13 +167,13 @@ void check_placement(const Config& root, const Deployment& d) {
 
 Scene parse_scene(const Config& c) {
   if (!c.node().IsMap()) c.fail("", "'scene' must be a map of marker, camera and objects");
-  c.allow_only({"marker", "camera", "objects"});
+  c.allow_only(keys::kScene);
   Scene scene;
   scene.defined = true;
   if (c.has("marker")) {
     if (!c.node()["marker"].IsMap()) c.fail("marker", "'marker' must be a map");
     const Config m = c.map("marker");
-    m.allow_only({"family", "id", "size", "friction"});
+    m.allow_only(keys::kMarker);
     if (m.has("friction")) m.number("friction", 0.5, 0, 10);  // checked here, where its line is known
     scene.marker = m.node();
   }
@@ -291,7 +293,8 @@ void give_tip_radius(const std::string& file, Deployment& d) {
     for (ServiceSpec& s : d.services) {
       if (s.kind != "rigid" && s.kind != "deformable") continue;
       const YAML::Node dev = s.params["device"];
-      if ((dev && dev.IsScalar() ? dev.Scalar() : std::string("omni")) != device.name) continue;
+      if ((dev && dev.IsScalar() ? dev.Scalar() : std::string(adapters::device::kDefaultDevice)) != device.name)
+        continue;
       YAML::Node params = s.params;
       if (!params["tip_radius"]) params["tip_radius"] = device.params["tip_radius"];
     }
@@ -305,7 +308,7 @@ std::vector<ForceSource> force_sources(const Deployment& d, const std::string& d
   for (const ServiceSpec& s : d.services) {
     if (!s.unneeded.empty() || (s.kind != "rigid" && s.kind != "deformable")) continue;
     const YAML::Node dev = s.params["device"];
-    if ((dev && dev.IsScalar() ? dev.Scalar() : std::string("omni")) != device) continue;
+    if ((dev && dev.IsScalar() ? dev.Scalar() : std::string(adapters::device::kDefaultDevice)) != device) continue;
     const YAML::Node list = s.params[s.kind == "rigid" ? "bodies" : "objects"];
     if (!list || !list.IsSequence()) continue;
     for (const YAML::Node& o : list)
@@ -316,7 +319,7 @@ std::vector<ForceSource> force_sources(const Deployment& d, const std::string& d
 
 Deployment load_deployment(const std::string& path) {
   const Config root = Config::load(path, "a deployment");
-  root.allow_only({"domain", "mode", "step", "duration", "security", "hosts", "network", "scene", "services"});
+  root.allow_only(keys::kDeployment);
 
   Deployment d;
   d.file = path;
@@ -329,7 +332,7 @@ Deployment load_deployment(const std::string& path) {
     const std::string what = "'security' must be a map with 'dir' (docs/security.md)";
     if (!root.node()["security"].IsMap()) root.fail("security", what);
     const Config sec = root.map("security");
-    sec.allow_only({"dir"});
+    sec.allow_only(keys::kSecurity);
     if (!sec.has("dir")) root.fail("security", what);
     fs::path dir = sec.string("dir", "");
     if (dir.empty()) sec.fail("dir", "'dir' must name a folder");

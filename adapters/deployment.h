@@ -16,6 +16,21 @@ namespace hcosim::adapters {
 // Highest domain id that fits Fast DDS's port formula (7400 + 250 * domain).
 inline constexpr int kMaxDomain = 232;
 
+// The keys each map of the file may hold, as docs/deployment.md's tables
+// list them (a test holds the two to each other).
+namespace keys {
+inline const std::vector<std::string> kDeployment{"domain", "mode",    "step",  "duration", "security",
+                                                  "hosts",  "network", "scene", "services"};
+inline const std::vector<std::string> kSecurity{"dir"};
+inline const std::vector<std::string> kHost{"name", "address", "interface", "clock"};
+inline const std::vector<std::string> kNetwork{"discovery",         "server",   "server_port", "transport",
+                                               "socket_buffer_kib", "bulk_mbit"};
+inline const std::vector<std::string> kScene{"marker", "camera", "objects"};
+inline const std::vector<std::string> kMarker{"family", "id", "size", "friction"};
+inline const std::vector<std::string> kService{"name",    "kind",     "rate", "params", "on_failure",
+                                               "objects", "priority", "cpu",  "host"};
+}  // namespace keys
+
 enum class Mode { kRealtime, kLockstep };
 const char* to_string(Mode m);
 Mode parse_mode(const std::string& s);  // throws std::invalid_argument

@@ -6,6 +6,16 @@
 namespace hcosim::adapters::deformable {
 namespace {
 
+namespace limits = models::deformable::limits;
+
+// A key within the range the model itself accepts (models/deformable/limits.h).
+double number(const Config& o, const std::string& key, double fallback, models::deformable::Range r) {
+  return o.number(key, fallback, r.lo, r.hi);
+}
+int whole(const Config& o, const std::string& key, int fallback, models::deformable::Range r) {
+  return o.whole(key, fallback, int(r.lo), int(r.hi));
+}
+
 ObjectConfig object(const Config& o, double servo_dt, double tip_radius) {
   ObjectConfig c;
   c.name = o.string("name", "");
@@ -13,15 +23,13 @@ ObjectConfig object(const Config& o, double servo_dt, double tip_radius) {
   c.model = o.text("model", "hybrid", {"hybrid", "sheet", "semisphere"});
   const auto centre = o.vec3("centre", {0, 0, c.model == "hybrid" ? 0.05 : 0});
   if (c.model == "hybrid") {
-    o.allow_only({"name", "model", "centre", "size", "elements", "stiff_ratio", "map", "keep", "behavior_rate",
-                  "visual_subdivisions", "rounding", "friction", "volume", "behavior", "young", "poisson", "density",
-                  "modes", "mesh"});
+    o.allow_only(keys::kHybrid);
     models::deformable::HybridSpec& s = c.hybrid;
     s.centre = {centre[0], centre[1], centre[2]};
-    s.size = o.number("size", s.size, 0.01, 2);
-    s.elements = o.whole("elements", s.elements, 3, 100);
-    s.stiff_ratio = o.number("stiff_ratio", s.stiff_ratio, 1, 100);
-    s.volume = o.number("volume", s.volume, 0, 1000);
+    s.size = number(o, "size", s.size, limits::kSize);
+    s.elements = whole(o, "elements", s.elements, limits::kElements);
+    s.stiff_ratio = number(o, "stiff_ratio", s.stiff_ratio, limits::kStiffRatio);
+    s.volume = number(o, "volume", s.volume, limits::kVolume);
     s.behavior_model =
         models::deformable::parse_behavior_model(o.text("behavior", "springs", {"springs", "fem", "modal"}));
     s.fem.young = o.number("young", s.fem.young, 10, 1e8);
@@ -31,10 +39,10 @@ ObjectConfig object(const Config& o, double servo_dt, double tip_radius) {
     if (o.has("modes") && s.behavior_model != models::deformable::BehaviorModel::modal)
       o.fail("modes", "modes counts the modal behavior model's modes (behavior: modal)");
     s.map = models::deformable::parse_visual_map(o.text("map", "mvc_sparse", {"mvc", "mvc_sparse", "trilinear"}));
-    s.keep = o.number("keep", s.keep, 0.5, 1);
+    s.keep = number(o, "keep", s.keep, limits::kKeep);
     s.behavior.dt = 1 / o.number("behavior_rate", 1000, 10, 10000);
-    s.visual_subdivisions = o.whole("visual_subdivisions", s.visual_subdivisions, 1, 300);
-    s.visual_exponent = o.number("rounding", s.visual_exponent, 2, 64);
+    s.visual_subdivisions = whole(o, "visual_subdivisions", s.visual_subdivisions, limits::kVisualSubdivisions);
+    s.visual_exponent = number(o, "rounding", s.visual_exponent, limits::kVisualExponent);
     s.friction = device::friction_config(o);
     s.tip_radius = tip_radius;
     if (tip_radius >= 0.5 * s.size) o.fail("size", "the object must be wider than the stylus tip (tip_radius)");
@@ -52,21 +60,20 @@ ObjectConfig object(const Config& o, double servo_dt, double tip_radius) {
     }
     return c;
   }
-  o.allow_only({"name", "model", "centre", "size", "resolution", "stiffness", "damping", "prestretch", "bending",
-                "friction", "contact_stiffness"});
+  o.allow_only(keys::kSurface);
   models::deformable::SurfaceSpec& s = c.surface;
   s.shape = c.model == "sheet" ? models::deformable::Shape::sheet : models::deformable::Shape::semisphere;
   s.centre = {centre[0], centre[1], centre[2]};
-  s.size = o.number("size", s.size, 0.01, 2);
+  s.size = number(o, "size", s.size, limits::kSize);
   // A dome's rings hold 4 x resolution masses at its base: 12 keeps the
   // default scene's dome at the sheet's cost per tick with its hinges.
-  s.resolution = o.whole("resolution", s.shape == models::deformable::Shape::sheet ? 21 : 12, 3, 200);
-  s.material.k = o.number("stiffness", s.material.k, 1e-3, 1e5);
-  s.material.b = o.number("damping", s.material.b, 0, 1e3);
-  s.prestretch = o.number("prestretch", s.prestretch, 0, 0.4);
-  s.bending = o.number("bending", s.bending, 0, 1);
+  s.resolution = whole(o, "resolution", s.shape == models::deformable::Shape::sheet ? 21 : 12, limits::kResolution);
+  s.material.k = number(o, "stiffness", s.material.k, limits::kSpringStiffness);
+  s.material.b = number(o, "damping", s.material.b, limits::kSpringDamping);
+  s.prestretch = number(o, "prestretch", s.prestretch, limits::kPrestretch);
+  s.bending = number(o, "bending", s.bending, limits::kBending);
   s.friction = device::friction_config(o);
-  s.contact_stiffness = o.number("contact_stiffness", 5 * s.material.k, 1e-3, 1e6);
+  s.contact_stiffness = number(o, "contact_stiffness", 5 * s.material.k, limits::kContactStiffness);
   s.options.dt = servo_dt;
   s.tip_radius = tip_radius;
   if (tip_radius >= 0.5 * s.size) o.fail("size", "the object must be wider than the stylus tip (tip_radius)");
@@ -76,7 +83,7 @@ ObjectConfig object(const Config& o, double servo_dt, double tip_radius) {
 }  // namespace
 
 DeformableConfig deformable_config(const Config& p, double servo_dt) {
-  p.allow_only({"device", "visual_rate", "objects", "tip_radius"});
+  p.allow_only(keys::kParams);
   DeformableConfig d;
   d.device = p.string("device", d.device);
   d.visual_rate_hz = p.number("visual_rate", d.visual_rate_hz, 1, 240);

@@ -8,10 +8,39 @@
 #include <vector>
 
 #include "adapters/config.h"
+#include "adapters/device/device_config.h"
 #include "models/deformable/elastic_surface.h"
 #include "models/deformable/hybrid.h"
 
 namespace hcosim::adapters::deformable {
+
+// The keys of the service's params and of each kind of object, as
+// docs/deformable.md's tables list them (a test holds the two to each other).
+namespace keys {
+inline const std::vector<std::string> kParams{"device", "visual_rate", "objects", "tip_radius"};
+inline const std::vector<std::string> kHybrid{"name",
+                                              "model",
+                                              "centre",
+                                              "size",
+                                              "elements",
+                                              "mesh",
+                                              "stiff_ratio",
+                                              "volume",
+                                              "behavior",
+                                              "modes",
+                                              "young",
+                                              "poisson",
+                                              "density",
+                                              "map",
+                                              "keep",
+                                              "behavior_rate",
+                                              "visual_subdivisions",
+                                              "rounding",
+                                              "friction"};
+inline const std::vector<std::string> kSurface{"name",       "model",     "centre",           "size",
+                                               "resolution", "stiffness", "damping",          "prestretch",
+                                               "bending",    "friction",  "contact_stiffness"};
+}  // namespace keys
 
 // One object: a hybrid model, or an elastic surface (sheet or semi-sphere).
 struct ObjectConfig {
@@ -22,8 +51,8 @@ struct ObjectConfig {
 };
 
 struct DeformableConfig {
-  std::string device = "omni";  // the haptic device whose stylus touches the objects
-  double visual_rate_hz = 30;   // deformed meshes a second
+  std::string device = device::kDefaultDevice;  // the haptic device whose stylus touches the objects
+  double visual_rate_hz = 30;                   // deformed meshes a second
   std::vector<ObjectConfig> objects;
 };
 

@@ -13,6 +13,10 @@
 
 namespace hcosim::adapters::device {
 
+// The device a deployment's rigid and deformable services answer, and its
+// AR view draws, unless their params name another (their `device`).
+inline constexpr const char* kDefaultDevice = "omni";
+
 struct DeviceConfig {
   bool replay = false;            // device: replay (a trajectory) or simulated (a virtual user)
   std::string source;             // the trajectory (CSV) or the virtual-user script (YAML)

@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 
 #include "adapters/config.h"
+#include "adapters/device/device_config.h"
 
 namespace hcosim::adapters::render {
 
@@ -21,9 +22,9 @@ struct ViewItem {
 };
 
 struct ViewConfig {
-  std::string camera;           // whose frames and poses ("": any)
-  int tag_id = 0;               // the marker the scene stands on
-  std::string device = "omni";  // whose stylus is drawn
+  std::string camera;                           // whose frames and poses ("": any)
+  int tag_id = 0;                               // the marker the scene stands on
+  std::string device = device::kDefaultDevice;  // whose stylus is drawn
   std::vector<ViewItem> items;
   std::string video = "ar.mp4";   // in the output folder; "" none
   std::vector<double> snapshots;  // s of simulated time, ascending: a picture each

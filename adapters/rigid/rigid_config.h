@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "adapters/config.h"
+#include "adapters/device/device_config.h"
 #include "models/haptic/friction.h"
 #include "models/rigid/coupling.h"
 #include "models/rigid/world.h"
@@ -14,12 +15,12 @@
 namespace hcosim::adapters::rigid {
 
 struct RigidConfig {
-  std::string device = "omni";           // the haptic device whose stylus touches the bodies
-  std::string backend = "analytic";      // analytic, mujoco or crosscheck (both, MuJoCo's divergence told)
-  models::rigid::WorldSpec spec;         // ground, materials, the stylus tip's radius
-  models::rigid::CouplingSpec coupling;  // the stylus to each body's proxy
-  int mujoco_substeps = 10;              // MuJoCo steps per service step
-  std::vector<std::string> names;        // the bodies' names (ForceFeedback.source), in file order
+  std::string device = device::kDefaultDevice;  // the haptic device whose stylus touches the bodies
+  std::string backend = "analytic";             // analytic, mujoco or crosscheck (both, MuJoCo's divergence told)
+  models::rigid::WorldSpec spec;                // ground, materials, the stylus tip's radius
+  models::rigid::CouplingSpec coupling;         // the stylus to each body's proxy
+  int mujoco_substeps = 10;                     // MuJoCo steps per service step
+  std::vector<std::string> names;               // the bodies' names (ForceFeedback.source), in file order
   std::vector<models::rigid::Body> bodies;
   std::vector<models::haptic::Friction> frictions;  // the stylus against each body, felt through its proxy
 };

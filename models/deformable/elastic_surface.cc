@@ -71,14 +71,18 @@ void dome(int rings, double radius, Eigen::Matrix3Xd& x, std::vector<Eigen::Vect
 const char* name(Shape s) { return s == Shape::sheet ? "sheet" : "semisphere"; }
 
 ElasticSurface::ElasticSurface(const SurfaceSpec& spec) : spec_(spec), cone_(spec.friction) {
-  need_surface(spec.resolution >= 3 && spec.resolution <= 400, "resolution must be in [3, 400]");
-  need_surface(spec.size > 0 && std::isfinite(spec.size), "size must be finite and > 0");
+  const auto within = [](const char* field, double v, Range r) {
+    need_surface(r.holds(v), std::string(field) + " must be in " + r.text());
+  };
+  within("resolution", spec.resolution, limits::kResolution);
+  within("size", spec.size, limits::kSize);
   need_surface(spec.centre.allFinite(), "centre must be finite");
-  need_surface(spec.prestretch >= 0 && spec.prestretch < 0.5, "prestretch must be in [0, 0.5)");
+  within("stiffness", spec.material.k, limits::kSpringStiffness);
+  within("damping", spec.material.b, limits::kSpringDamping);
+  within("prestretch", spec.prestretch, limits::kPrestretch);
   need_surface(spec.tip_radius >= 0 && spec.tip_radius < 0.5 * spec.size, "tip_radius must be in [0, size / 2)");
-  need_surface(spec.bending >= 0 && std::isfinite(spec.bending), "bending must be finite and >= 0");
-  need_surface(spec.contact_stiffness > 0 && std::isfinite(spec.contact_stiffness),
-               "contact_stiffness must be finite and > 0");
+  within("bending", spec.bending, limits::kBending);
+  within("contact_stiffness", spec.contact_stiffness, limits::kContactStiffness);
   const int n = spec.resolution;
   models::massspring::Lattice l;
   if (spec.shape == Shape::sheet) {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "models/deformable/limits.h"
 #include "models/deformable/object.h"
 #include "models/deformable/proxy.h"
 #include "models/haptic/friction.h"

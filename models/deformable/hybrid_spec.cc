@@ -48,16 +48,19 @@ void check_hybrid(bool ok, const std::string& what) {
 }
 
 void check(const HybridSpec& s) {
-  check_hybrid(s.elements >= 3 && s.elements <= 100, "elements must be in [3, 100] per edge");
-  check_hybrid(s.size > 0 && std::isfinite(s.size), "size must be finite and > 0");
+  const auto within = [](const char* field, double v, Range r) {
+    check_hybrid(r.holds(v), std::string(field) + " must be in " + r.text());
+  };
+  within("elements", s.elements, limits::kElements);
+  within("size", s.size, limits::kSize);
   check_hybrid(s.centre.allFinite(), "centre must be finite");
-  check_hybrid(s.stiff_ratio >= 1 && s.stiff_ratio <= 100, "stiff_ratio must be in [1, 100]");
-  check_hybrid(s.volume >= 0 && s.volume <= 1000, "volume must be in [0, 1000]");
+  within("stiff_ratio", s.stiff_ratio, limits::kStiffRatio);
+  within("volume", s.volume, limits::kVolume);
   check_hybrid(s.volume_floor > 0 && s.volume_floor <= 1, "volume_floor must be in (0, 1]");
-  check_hybrid(s.modes >= 1 && s.modes <= models::fem::Modal::kMaxDofs,
-               "modes must be in [1, " + std::to_string(models::fem::Modal::kMaxDofs) + "]");
-  check_hybrid(s.visual_subdivisions >= 1 && s.visual_subdivisions <= 1000, "visual_subdivisions must be in [1, 1000]");
-  check_hybrid(s.keep > 0 && s.keep <= 1, "keep must be in (0, 1]");
+  within("modes", s.modes, Range{1, double(models::fem::Modal::kMaxDofs)});
+  within("visual_subdivisions", s.visual_subdivisions, limits::kVisualSubdivisions);
+  within("visual_exponent", s.visual_exponent, limits::kVisualExponent);
+  within("keep", s.keep, limits::kKeep);
   check_hybrid(s.visual_tolerance >= 0 && s.visual_tolerance < s.size, "visual_tolerance must be in [0, size)");
   check_hybrid(s.tip_radius >= 0 && s.tip_radius < 0.5 * s.size, "tip_radius must be in [0, size / 2)");
   check_hybrid(s.shape.triangles.empty() || s.map != VisualMap::trilinear, "a shape is mapped by mvc or mvc_sparse");

@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include "models/deformable/limits.h"
 #include "models/deformable/schain.h"
 #include "models/fem/corotational.h"
 #include "models/haptic/friction.h"
@@ -95,8 +96,8 @@ struct HybridSpec {
   double tip_radius = 0;      // m, >= 0: the stylus tip's; its centre touches the surface grown by it
 };
 
-// Throws std::invalid_argument naming the first bad field (a shape's
-// problems among them: not closed, no flat underside).
+// Throws std::invalid_argument naming the first bad field and its range
+// (limits.h; a shape's problems among them: not closed, no flat underside).
 void check(const HybridSpec& spec);
 
 // Throws std::invalid_argument("hybrid: " + what) unless `ok`: the hybrid

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "adapters/deployment.h"
+#include "tests/support/doc_keys.h"
 #include "tests/support/temp_dir.h"
 
 namespace hcosim::adapters {
@@ -309,6 +310,17 @@ TEST(Deployment, AServicesErrorAboutASceneObjectNamesItsLine) {
     e = x.what();
   }
   EXPECT_NE(e.find("keys.yaml:4:33: unknown key 'colour'"), std::string::npos) << e;
+}
+
+// Every key the reader takes is in docs/deployment.md's table for its map,
+// and every key there is one the reader takes.
+TEST(Deployment, EachMapsKeysAreTheDocumentedOnes) {
+  const std::pair<const char*, const std::vector<std::string>*> maps[] = {
+      {"deployment", &keys::kDeployment}, {"security", &keys::kSecurity}, {"host", &keys::kHost},
+      {"network", &keys::kNetwork},       {"scene", &keys::kScene},       {"marker", &keys::kMarker},
+      {"service", &keys::kService}};
+  for (const auto& [table, read] : maps)
+    EXPECT_EQ(tests::documented_keys("deployment.md", table), tests::sorted(*read)) << "docs/deployment.md, " << table;
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/support/doc_keys.h"
 #include "tests/support/temp_dir.h"
 
 namespace hcosim::adapters::deformable {
@@ -138,6 +139,16 @@ TEST(DeformableConfig, MistakesAreNamedAtTheirPlace) {
   EXPECT_EQ(error("tip_radius: 0.008\nobjects: [{name: a, size: 0.015}]\n"),
             "d.yaml:2:27: the object must be wider than the stylus tip (tip_radius)");
   EXPECT_EQ(error("tip_radius: 0.02\nobjects: [{name: a}]\n"), "d.yaml:1:13: 'tip_radius' = 0.02 is outside [0, 0.01]");
+}
+
+// Every key the reader takes is in docs/deformable.md's table for its map,
+// and every key there is one the reader takes.
+TEST(DeformableConfig, EachMapsKeysAreTheDocumentedOnes) {
+  const std::pair<const char*, const std::vector<std::string>*> maps[] = {{"deformable.params", &keys::kParams},
+                                                                          {"deformable.hybrid", &keys::kHybrid},
+                                                                          {"deformable.surface", &keys::kSurface}};
+  for (const auto& [table, read] : maps)
+    EXPECT_EQ(tests::documented_keys("deformable.md", table), tests::sorted(*read)) << "docs/deformable.md, " << table;
 }
 
 }  // namespace

@@ -72,8 +72,11 @@ TEST(ForceGain, ItsForcesAreTheSettledPressesAtTheGainPoints) {
   const models::massspring::TriangleMesh visual = hybrid_visual(s);
   ASSERT_EQ(g.compliance.size(), std::size_t(visual.vertices.cols()));
   const double floor = rest_box(s).min().z();
-  for (int v = 0; v < visual.vertices.cols(); ++v)
-    if (visual.vertices(2, v) > floor + 1e-9) ASSERT_GT(g.compliance[v], 0) << "vertex " << v;
+  for (int v = 0; v < visual.vertices.cols(); ++v) {
+    if (visual.vertices(2, v) > floor + 1e-9) {
+      ASSERT_GT(g.compliance[v], 0) << "vertex " << v;
+    }
+  }
   EXPECT_GT(g.soft_compliance, g.stiff_compliance);
 
   HybridSpec moved = s;
