@@ -37,6 +37,8 @@ void write_json(const fs::path& dir, const Result& r) {
   j["machine"] = adapters::Json::object();
   for (const auto& [k, v] : r.machine) j["machine"][k] = v;
   j["command"] = r.command;
+  j["commit"] = r.tree.commit;
+  j["clean"] = r.tree.clean;
   j["seconds"] = r.seconds;
   j["rows"] = adapters::Json::array();
   for (const auto& row : r.rows) {
@@ -60,7 +62,9 @@ Result read_json(const fs::path& file, const Suite& s) {
   text << in.rdbuf();
   const adapters::Json doc = adapters::parse_json(text.str(), file.string());
   const auto number = [](const adapters::Json& v) { return v.is_number() ? v.get<double>() : NAN; };
-  Result r{&s, {}, {}, doc.value("command", std::string("a run that did not record its command")), {}, NAN, ""};
+  Result r{&s, {}, {}, doc.value("command", std::string("a run that did not record its command")), {}, {}, NAN, ""};
+  r.tree.commit = doc.value("commit", r.tree.commit);
+  r.tree.clean = doc.value("clean", false);
   // Each optional part is held first: a range over a temporary's items() would dangle.
   const adapters::Json none = adapters::Json::object(), machine = doc.value("machine", none),
                        rows = doc.value("rows", adapters::Json::array());
@@ -81,9 +85,8 @@ Result read_json(const fs::path& file, const Suite& s) {
   return r;
 }
 
-// `bench report --out DIR`: the plots and index.md again from the JSON
-// files of an earlier run, measuring nothing.
-int report(const fs::path& dir) {
+// The results in DIR's SUITE.json files, in the suites' order.
+std::vector<Result> read_results(const fs::path& dir) {
   std::vector<Result> results;
   for (const Suite& s : suites()) {
     const fs::path file = dir / (std::string(s.name) + ".json");
@@ -94,15 +97,70 @@ int report(const fs::path& dir) {
       // Valid JSON of another shape: a field missing or of the wrong type.
       throw std::runtime_error(file.string() + ": not a bench report: " + e.what());
     }
-    results.back().figures = draw_plots(s, results.back().rows, dir);
   }
   if (results.empty()) throw std::invalid_argument("no SUITE.json of any suite in " + dir.string());
+  return results;
+}
+
+// A page's text with its drawn part (between kPageBegin and kPageEnd) in
+// place of what stands there. Throws naming the page without them.
+std::string with_part(const fs::path& page, const std::string& part) {
+  std::ifstream in(page);
+  if (!in) throw std::invalid_argument("cannot read " + page.string());
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string s = text.str();
+  const std::string begin = std::string(kPageBegin) + "\n", end = std::string(kPageEnd) + "\n";
+  const std::size_t b = s.find(begin), e = s.find(end);
+  if (b == std::string::npos || e == std::string::npos || e < b)
+    throw std::invalid_argument(page.string() + ": no line '" + kPageBegin + "' followed by '" + kPageEnd + "'");
+  return s.substr(0, b + begin.size()) + part + s.substr(e);
+}
+
+// `bench report --out DIR [--page PAGE]`: the plots and index.md again
+// from the JSON files of an earlier run, measuring nothing, and PAGE's
+// drawn part.
+int report(const fs::path& dir, const fs::path& page) {
+  std::vector<Result> results = read_results(dir);
+  for (Result& r : results) r.figures = draw_plots(*r.suite, r.rows, dir);
   write_index(dir, results, "hcosim bench report --out " + dir.string());
+  if (!page.empty()) {
+    const std::string text = with_part(page, page_part(results));
+    std::ofstream(page) << text;
+    std::cout << "wrote " << page.string() << "\n";
+  }
   return 0;
 }
 
+// `bench check --out DIR --page PAGE`: whether PAGE's drawn part is what
+// DIR's JSON files give, writing nothing; the first line that differs.
+int check(const fs::path& dir, const fs::path& page) {
+  if (page.empty()) throw std::invalid_argument("bench check needs --page PAGE");
+  const std::string want = with_part(page, page_part(read_results(dir)));
+  std::ifstream in(page);
+  std::stringstream text;
+  text << in.rdbuf();
+  if (text.str() == want) {
+    std::cout << page.string() << ": its drawn part is what " << dir.string() << "/*.json give\n";
+    return 0;
+  }
+  std::istringstream a(text.str()), b(want);
+  std::string la, lb;
+  for (int line = 1;; ++line) {
+    const bool more_a = bool(std::getline(a, la)), more_b = bool(std::getline(b, lb));
+    if (!more_a && !more_b) break;
+    if (la != lb || more_a != more_b) {
+      std::cerr << page.string() << ":" << line << ": is\n  " << (more_a ? la : "(the end)") << "\nbut " << dir.string()
+                << "/*.json give\n  " << (more_b ? lb : "(the end)") << "\n(hcosim bench report --out " << dir.string()
+                << " --page " << page.string() << " draws it)\n";
+      break;
+    }
+  }
+  return 1;
+}
+
 struct BenchOptions {
-  std::string which, out;
+  std::string which, out, page;
   bool quick = false;
   int domain = -1;  // -1: a domain of its own
 };
@@ -117,11 +175,12 @@ int run(const BenchOptions& o) {
   std::string names;
   for (const auto& s : suites()) {
     names += (names.empty() ? "" : ", ") + std::string(s.name);
-    if ((which == "all" && !s.alone) || which == s.name) chosen.push_back(&s);
+    if (which == "all" || which == s.name) chosen.push_back(&s);
   }
   if (o.out.empty()) throw std::invalid_argument("bench needs --out DIR");
   const fs::path dir = o.out;
-  if (which == "report") return report(dir);
+  if (which == "report") return report(dir, o.page);
+  if (which == "check") return check(dir, o.page);
   if (chosen.empty()) throw std::invalid_argument("unknown suite '" + which + "' (suites: " + names + ", all)");
   fs::create_directories(dir);
   Context c;
@@ -135,6 +194,8 @@ int run(const BenchOptions& o) {
   // The command in its synopsis' order, as the report names it.
   const std::string command = "hcosim bench " + which + (o.quick ? " --quick" : "") +
                               (o.domain >= 0 ? " --domain " + std::to_string(o.domain) : "") + " --out " + o.out;
+  // Asked before anything is written: the run's own files are not the tree's changes.
+  const Provenance tree = provenance();
   std::vector<Result> results;
   const auto begin = std::chrono::steady_clock::now();
   const auto since = [](auto t) { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count(); };
@@ -142,7 +203,7 @@ int run(const BenchOptions& o) {
     const Suite& s = *chosen[k];
     progress("[" + std::to_string(k + 1) + "/" + std::to_string(chosen.size()) + "] " + s.name + ": " + s.what);
     const auto t0 = std::chrono::steady_clock::now();
-    Result r{&s, {}, {}, command, machine(), NAN, ""};
+    Result r{&s, {}, {}, command, machine(), tree, NAN, ""};
     try {
       r.rows = s.run(c);
       r.seconds = since(t0);
@@ -166,6 +227,23 @@ int run(const BenchOptions& o) {
 
 }  // namespace
 
+Provenance provenance() {
+  const auto git = [](const std::string& args) {
+    std::string out;
+    if (FILE* f = popen(("git -C '" + std::string(HCOSIM_SOURCE_DIR) + "' " + args + " 2>/dev/null").c_str(), "r")) {
+      char buf[4096];
+      for (std::size_t n; (n = fread(buf, 1, sizeof buf, f)) > 0;) out.append(buf, n);
+      if (pclose(f) != 0) return std::string("\x01");  // git failed
+    }
+    return out;
+  };
+  Provenance p;
+  const std::string head = git("rev-parse HEAD"), status = git("status --porcelain");
+  if (head.size() > 1 && head[0] != '\x01') p.commit = head.substr(0, head.find('\n'));
+  p.clean = p.commit != "unknown" && status.empty();
+  return p;
+}
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? NAN : v.size() % 2 ? v[v.size() / 2] : (v[v.size() / 2 - 1] + v[v.size() / 2]) / 2;
@@ -174,15 +252,19 @@ double median(std::vector<double> v) {
 void add_bench(CLI::App& app, runtime::Command& chosen) {
   auto o = std::make_shared<BenchOptions>();
   CLI::App* c = app.add_subcommand("bench",
-                                   "run one benchmark suite or all of them (soak, half an hour, only when named); "
+                                   "run one benchmark suite or all of them (the soak among them takes half an hour); "
                                    "write DIR/SUITE.json per suite, its plots, and DIR/index.md, the report "
-                                   "(docs/PERFORMANCE.md); 'list' names the suites, 'report' redraws DIR's report");
-  c->add_option("SUITE|all|list|report", o->which, "what to run")->required();
+                                   "(docs/PERFORMANCE.md); 'list' names the suites, 'report' redraws DIR's report "
+                                   "(and with --page, that page's drawn part), 'check' says whether --page's drawn "
+                                   "part is DIR's");
+  c->add_option("SUITE|all|list|report|check", o->which, "what to run")->required();
   c->add_flag("--quick", o->quick, "shorter runs, for tests");
   c->add_option("--domain", o->domain, "DDS domain id (default: one of 215..229, of its own)")
       ->option_text("D")
       ->check(CLI::Range(0, adapters::kMaxDomain));
   c->add_option("--out", o->out, "the folder for the figures and the report")->option_text("DIR");
+  c->add_option("--page", o->page, "report, check: the page whose drawn part the report gives (docs/PERFORMANCE.md)")
+      ->option_text("PAGE");
   c->callback([&chosen, o] { chosen = [o] { return run(*o); }; });
 }
 

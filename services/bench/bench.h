@@ -74,7 +74,6 @@ struct Suite {
   std::vector<Table> tables = {};  // rows of a name without one get a table captioned by its name
   std::vector<Plot> plots = {};
   std::vector<Goal> goals = {};
-  bool alone = false;  // run only when named, not by 'all' (the half-hour soak)
 };
 
 inline void progress(const std::string& line) { std::cerr << "bench: " << line << std::endl; }
@@ -136,6 +135,15 @@ using Machine = std::vector<std::pair<std::string, std::string>>;
 // The machine, compiler and libraries now, as (name, value) pairs.
 Machine machine();
 
+// The source tree a run measured: its commit, and whether the tree had
+// changes git had not committed (untracked files count; ignored ones, such
+// as build/, do not), asked of git when the run began.
+struct Provenance {
+  std::string commit = "unknown";  // git's full hash
+  bool clean = false;
+};
+Provenance provenance();
+
 // One suite's outcome, for the report.
 struct Result {
   const Suite* suite;
@@ -143,6 +151,7 @@ struct Result {
   std::vector<Figure> figures;
   std::string command;  // what measured it
   Machine machine;      // where and when
+  Provenance tree;      // what it measured
   double seconds;       // wall time the suite took; NaN if not known
   std::string error;    // why the suite stopped, if it did
 };
@@ -152,5 +161,15 @@ struct Result {
 // report is drawn again from the JSON files of an earlier run.
 void write_index(const std::filesystem::path& dir, const std::vector<Result>& results,
                  const std::string& redrawn_by = "");
+
+// The part of a page (docs/PERFORMANCE.md) drawn from a run's results:
+// what measured them, on which tree, and every goal of every suite with
+// its verdict and worst figure (report.cc). It stands in the page between
+// kPageBegin and kPageEnd, lines of their own.
+std::string page_part(const std::vector<Result>& results);
+inline constexpr const char* kPageBegin =
+    "<!-- Drawn by `hcosim bench report --out docs/bench --page docs/PERFORMANCE.md` from docs/bench/*.json: do not "
+    "edit -->";
+inline constexpr const char* kPageEnd = "<!-- End of the drawn part -->";
 
 }  // namespace hcosim::services::bench

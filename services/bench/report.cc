@@ -240,6 +240,57 @@ void goal(std::ostream& md, const Goal& g, const std::vector<Row>& rows) {
 
 }  // namespace
 
+namespace {
+
+// "at commit H (a clean tree)" for each tree the results measured, with
+// the suites that measured it when there is more than one.
+std::string trees(const std::vector<Result>& results) {
+  std::vector<std::pair<std::string, std::vector<std::string>>> by;  // "H, clean" -> suites
+  for (const Result& r : results) {
+    const std::string t = "commit `" + r.tree.commit + "` (" +
+                          (r.tree.clean ? "a clean tree" : "**with changes git had not committed**") + ")";
+    auto it = std::find_if(by.begin(), by.end(), [&](const auto& b) { return b.first == t; });
+    if (it == by.end()) by.push_back({t, {}}), it = by.end() - 1;
+    it->second.push_back(r.suite->name);
+  }
+  std::string out;
+  for (const auto& [t, suites] : by) {
+    out += (out.empty() ? "" : "; ") + std::string("at ") + t;
+    if (by.size() > 1) {
+      out += " for";
+      for (const std::string& s : suites) out += " `" + s + "`";
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string page_part(const std::vector<Result>& results) {
+  std::ostringstream md;
+  std::vector<std::string> commands;
+  for (const Result& r : results)
+    if (std::find(commands.begin(), commands.end(), r.command) == commands.end()) commands.push_back(r.command);
+  md << "Measured by";
+  for (std::size_t k = 0; k < commands.size(); ++k) md << (k ? " and " : " ") << "`" << commands[k] << "`";
+  md << " " << trees(results) << ". The report, its tables and plots: [docs/bench/index.md](bench/index.md).\n\n";
+  md << "| suite | goal | in every row | worst | verdict |\n|---|---|---|--:|---|\n";
+  for (const Result& r : results)
+    for (const Goal& g : r.suite->goals) {
+      const Verdict v = judge(g, r.rows);
+      md << "| `" << r.suite->name << "` | " << md_cell(g.text) << " | `" << g.row << "`"
+         << (g.where.empty() ? "" : " with " + g.where + " " + g.is) << ": `" << g.metric << "` "
+         << (g.at_least ? ">=" : "<=") << " " << text(g.bound) << " | "
+         << (v.rows == 0 ? "" : text(v.worst) + " (" + std::to_string(v.rows) + " rows)") << " | "
+         << (!r.error.empty() ? "the suite failed"
+             : v.rows == 0    ? "not measured"
+             : v.met()        ? "met"
+                              : "**not met**")
+         << " |\n";
+    }
+  return md.str();
+}
+
 void write_index(const fs::path& dir, const std::vector<Result>& results, const std::string& redrawn_by) {
   std::ostringstream md;
   md << "# hcosim benchmark results\n\n";
@@ -248,6 +299,7 @@ void write_index(const fs::path& dir, const std::vector<Result>& results, const 
     if (std::find(commands.begin(), commands.end(), r.command) == commands.end()) commands.push_back(r.command);
   md << "Measured by";
   for (std::size_t k = 0; k < commands.size(); ++k) md << (k ? " and " : " ") << "`" << commands[k] << "`";
+  md << " " << trees(results);
   if (!redrawn_by.empty()) md << " (this report drawn again from its JSON files by `" << redrawn_by << "`)";
   md << ". Every figure below is measured on the machine described at the end; times are medians over repeats or "
         "percentiles over every sample, as each table says, and every ratio to a peer (bare Fast DDS, MuJoCo, OpenCV) "

@@ -193,7 +193,6 @@ Suite soak_suite() {
           "the default deployment in real time for 30 min (30 s with --quick): memory, loss, overruns, haptic "
           "round trip over time",
           soak_rows};
-  s.alone = true;
   s.tables = {
       {"window",
        "deploy/default.yaml's scene and services in real time, the tour played again and again, one row per "
