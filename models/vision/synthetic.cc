@@ -98,8 +98,8 @@ cv::Mat SyntheticCamera::render(const Eigen::Isometry3d& pose, const Conditions&
   const Eigen::Matrix3d H = T * K * P * A;
   cv::Mat frame(k_.height, k_.width, CV_8U, cv::Scalar(kBackground));
   // Only the sheet's footprint is warped and averaged down: the rest of
-  // the frame is background, and the full supersampled warp took 12 ms a
-  // 640x480 frame, a third of a core at 30 Hz (docs/tracking.md). The
+  // the frame is background, and warping the whole supersampled frame
+  // took a third of a core at 30 Hz. The
   // footprint is aligned to whole output pixels, so each averaged block is
   // the same as in a full warp.
   const cv::Rect out = footprint(H);

@@ -156,7 +156,7 @@ std::vector<Row> frame_rows(const Context& c) {
       poses.push_back(models::vision::orbit(2.0 * i, orbit));
       grey.push_back(camera.render(poses.back()));
     }
-    const std::string video_path = (c.out / "arview_bench.mp4").string();
+    const std::string video_path = (c.work / "arview_bench.mp4").string();
     cv::VideoWriter video(video_path, cv::VideoWriter::fourcc('m', 'p', '4', 'v'), 30, cv::Size(cs.width, cs.height));
     if (!video.isOpened()) throw std::runtime_error("bench arview: OpenCV cannot write MPEG-4 video to " + video_path);
     const std::size_t n = std::size_t(frames);

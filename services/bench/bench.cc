@@ -160,7 +160,7 @@ int check(const fs::path& dir, const fs::path& page) {
 }
 
 struct BenchOptions {
-  std::string which, out, page;
+  std::string which, out, page, work;
   bool quick = false;
   int domain = -1;  // -1: a domain of its own
 };
@@ -191,6 +191,9 @@ int run(const BenchOptions& o) {
   // where another process's socket can take a domain's discovery port.
   c.domain = o.domain >= 0 ? o.domain : 215 + int(getpid() % 15);
   c.out = dir;
+  c.work = o.work.empty() ? fs::temp_directory_path() / ("hcosim_bench_" + std::to_string(getpid())) : fs::path(o.work);
+  fs::create_directories(c.work);
+  progress("the suites' runs and logs: " + c.work.string());
   // The command in its synopsis' order, as the report names it.
   const std::string command = "hcosim bench " + which + (o.quick ? " --quick" : "") +
                               (o.domain >= 0 ? " --domain " + std::to_string(o.domain) : "") + " --out " + o.out;
@@ -222,6 +225,8 @@ int run(const BenchOptions& o) {
   write_index(dir, results);
   for (const Result& r : results)
     if (!r.error.empty()) return 1;
+  // A folder of its own is kept only when a suite failed, for its logs.
+  if (o.work.empty()) fs::remove_all(c.work);
   return 0;
 }
 
@@ -263,6 +268,10 @@ void add_bench(CLI::App& app, runtime::Command& chosen) {
       ->option_text("D")
       ->check(CLI::Range(0, adapters::kMaxDomain));
   c->add_option("--out", o->out, "the folder for the figures and the report")->option_text("DIR");
+  c->add_option("--work", o->work,
+                "where the suites run their processes and keep their logs (default: a new folder in /tmp, removed "
+                "unless a suite fails)")
+      ->option_text("DIR");
   c->add_option("--page", o->page, "report, check: the page whose drawn part the report gives (docs/PERFORMANCE.md)")
       ->option_text("PAGE");
   c->callback([&chosen, o] { chosen = [o] { return run(*o); }; });

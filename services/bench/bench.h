@@ -35,7 +35,8 @@ std::string text(double v);
 struct Context {
   bool quick = false;
   int domain = 0;
-  std::filesystem::path out;  // where the report (and any plot) goes
+  std::filesystem::path out;   // where the report (and any plot) goes
+  std::filesystem::path work;  // where the suites run their processes and keep their logs, out of the report's way
 };
 
 // How index.md shows the rows of one name: a caption saying what was

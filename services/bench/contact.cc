@@ -215,7 +215,7 @@ bool run_once(const Context& c, const Kind& k, const fs::path& dir) {
 // ("outputs not acknowledged by every reader in 2 s"), in about one suite
 // run in two on this machine; the stalled runs are counted in the row.
 fs::path run(const Context& c, const Kind& k, int& stalled) {
-  const fs::path dir = c.out / "contact_run" / k.name;
+  const fs::path dir = c.work / "contact_run" / k.name;
   for (int attempt = 0; attempt < 3; ++attempt) fs::remove_all(dir.string() + ".stalled" + std::to_string(attempt));
   for (int attempt = 0; attempt < 3; ++attempt) {
     if (run_once(c, k, dir)) return dir / "run.rec";

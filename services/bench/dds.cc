@@ -332,7 +332,7 @@ struct MeshTotals {
 template <class T>
 void large_round(const Context& c, const std::string& impl, int size, int readers, int count, int round, MeshTotals& t,
                  const Hosts* hosts = nullptr) {
-  const fs::path dir = c.out / (hosts ? "dds_hosts_run" : "dds_run");
+  const fs::path dir = c.work / (hosts ? "dds_hosts_run" : "dds_run");
   fs::create_directories(dir);
   std::vector<pid_t> pids;
   std::vector<fs::path> files;
@@ -543,7 +543,7 @@ void between_hosts(std::vector<Row>& rows, const char* name, int hosts, Row bare
 // made here; the progress line says why.
 std::vector<Row> hosts_rows(const Context& c, double seconds, int count, int rounds) {
   std::string why;
-  const std::unique_ptr<Hosts> hosts = Hosts::make(c.domain, 3, c.out / "dds_hosts", why);
+  const std::unique_ptr<Hosts> hosts = Hosts::make(c.domain, 3, c.work / "dds_hosts", why);
   if (!hosts) {
     progress("dds between hosts: skipped: " + why);
     return {};

@@ -155,7 +155,7 @@ std::vector<Row> foxglove_rows(const Context& c) {
                         " s with a client subscribed to everything"
                   : "without the bridge, " + std::to_string(int(idle)) + " + " + std::to_string(int(seconds)) + " s"));
       const Run r =
-          run(c, c.out / ("foxglove_" + std::to_string(k) + (bridge ? "_on" : "_off")), bridge, idle, seconds);
+          run(c, c.work / ("foxglove_" + std::to_string(k) + (bridge ? "_on" : "_off")), bridge, idle, seconds);
       const auto rate = [&](const std::string& topic) {
         const auto it = r.client.per_topic.find(topic);
         return it == r.client.per_topic.end() ? 0.0 : double(it->second) / r.seconds;

@@ -50,7 +50,7 @@ double field(const std::string& json, const std::string& key) {
 }
 
 Row closed_loop(const Context& c, double seconds) {
-  const fs::path dir = c.out / "haptic_run";
+  const fs::path dir = c.work / "haptic_run";
   fs::create_directories(dir);
   std::ofstream(dir / "hold.yaml") << "start: [0, 0, 0.001]\nactions:\n  - press: {depth: 0.003, speed: 0.01}\n"
                                       "  - hold: {duration: 1000}\n";
@@ -87,7 +87,7 @@ Row closed_loop(const Context& c, double seconds) {
 }
 
 Row deployment(const Context& c, double seconds) {
-  const fs::path dir = fs::absolute(c.out / "haptic_deployment");
+  const fs::path dir = fs::absolute(c.work / "haptic_deployment");
   fs::create_directories(dir);
   const fs::path report = dir / "omni.json", log = dir / "up.log";
   fs::remove(report);

@@ -70,8 +70,11 @@ void wait_running(pid_t up, const fs::path& log, const std::string& what) {
   }
 }
 
-fs::path default_deployment(const fs::path& dir, int domain, double seconds, double duration,
+fs::path default_deployment(const fs::path& folder, int domain, double seconds, double duration,
                             const fs::path& device_report) {
+  // The file names its script by an absolute path: a relative one would be
+  // taken from the file's folder.
+  const fs::path dir = fs::absolute(folder);
   const fs::path deploy = fs::path(runtime::default_qos_file()).parent_path();
   YAML::Node tour = YAML::LoadFile((deploy / "scripts" / "tour.yaml").string());
   YAML::Node actions(YAML::NodeType::Sequence);

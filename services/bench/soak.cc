@@ -71,7 +71,7 @@ std::string tail(const fs::path& log) {
 std::vector<Row> soak_rows(const Context& c) {
   const double total = c.quick ? 30 : 1800, window = c.quick ? 10 : 60;
   // Absolute: the deployment names the script, read from its own folder.
-  const fs::path dir = fs::absolute(c.out / "soak_run");
+  const fs::path dir = fs::absolute(c.work / "soak_run");
   fs::create_directories(dir);
   const fs::path file = default_deployment(dir, c.domain, total, 0), log = dir / "up.log";  // the bench stops it
   progress("soak: the default deployment in real time for " + text(total) + " s, a row every " + text(window) + " s (" +

@@ -76,8 +76,8 @@ void write(const fs::path& path, const std::string& text) {
 // certificate of this CA join, discovery and liveliness are encrypted
 // (topic names stay hidden), and so is every sample's payload. `all` also
 // encrypts every RTPS message and submessage (sequence numbers,
-// heartbeats): in lockstep, whose writers heartbeat every 100 us, that
-// costs far more (docs/security.md has the figures).
+// heartbeats): in lockstep, whose writers heartbeat every
+// kLockstepHeartbeatNs, that costs far more (docs/security.md measures it).
 std::string governance(bool all) {
   const std::string whole = all ? "ENCRYPT" : "NONE";
   return R"(<?xml version="1.0" encoding="UTF-8"?>

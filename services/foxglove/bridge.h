@@ -64,10 +64,10 @@ class Bridge {
   // awake kAwakeNs since it last rested, it rests kRestNs, and what
   // arrives meanwhile waits in the port's queue (1,024 deep, deploy/qos.xml)
   // to be taken in one wake-up. Fast DDS wakes that thread for every
-  // sample, about 1,500 times a second at the default scene, and on a
+  // sample, over a thousand times a second at the default scene, and on a
   // virtual machine the wake-ups cost more than the samples' work; the
-  // clients are sent to every 10 ms anyway (docs/PERFORMANCE.md, "The live
-  // Foxglove bridge"). Never on UDP's threads (runtime::receives_udp), nor
+  // clients are sent to every 10 ms anyway (bench foxglove measures the
+  // bridge's CPU share). Never on UDP's threads (runtime::receives_udp), nor
   // on the thread of a writer in this process (runtime::writing), on which
   // Fast DDS hands its samples to the bridge's readers.
   void rest();

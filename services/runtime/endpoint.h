@@ -247,8 +247,8 @@ class Reader {
 
   // Calls f() on Fast DDS's receiving thread each time samples arrive (f
   // takes them), instead of the caller waking a thread of its own: a wake-up
-  // less on the way (a thread's wake-up here is late by 60 to 95 us at p50,
-  // the device's closing line in integration.haptic_loop). The receiving
+  // less on the way (each is late by tens of microseconds on a virtual
+  // machine: the device's wake-up jitter, in its closing line). The receiving
   // threads have the scheduling of the thread that made the participant.
   // on_arrival(nullptr) returns once no call of f is running, and none
   // follows.

@@ -4,7 +4,7 @@
 # of the pixels apart), so the speed ratio compares the same work. Speed
 # is reported, not asserted.
 source "$(dirname "$0")/lib.sh"
-limit 100 "$BIN/hcosim" bench arview --quick --out "$WORK/b" >"$WORK/bench.log" 2>&1 ||
+limit 100 "$BIN/hcosim" bench arview --quick --out "$WORK/b" --work "$WORK/w" >"$WORK/bench.log" 2>&1 ||
   fail "bench exited $?: $(tail -5 "$WORK/bench.log")"
 f="$WORK/b/arview.json"
 [ -s "$f" ] || fail "no $f"
@@ -20,5 +20,5 @@ problems=$(jq -r '
                                          else empty end)])
   | .[]' "$f") || fail "jq could not read $f"
 [ -z "$problems" ] || fail "arview rows: $problems"
-[ ! -e "$WORK/b/arview_bench.mp4" ] || fail "the bench left its scratch video behind"
+[ ! -e "$WORK/w/arview_bench.mp4" ] || fail "the bench left its scratch video behind"
 echo "bench_arview_test: ok"

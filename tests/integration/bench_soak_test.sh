@@ -7,7 +7,7 @@
 # both plots; no process is left behind.
 # The goals' verdicts are reported, not asserted.
 source "$(dirname "$0")/lib.sh"
-limit 180 "$BIN/hcosim" bench soak --quick --domain "$DOMAIN" --out "$WORK/b" >"$WORK/bench.log" 2>&1 ||
+limit 180 "$BIN/hcosim" bench soak --quick --domain "$DOMAIN" --out "$WORK/b" --work "$WORK/w" >"$WORK/bench.log" 2>&1 ||
   fail "bench exited $?: $(tail -5 "$WORK/bench.log")"
 f="$WORK/b/soak.json"
 [ -s "$f" ] || fail "no $f"
@@ -36,7 +36,7 @@ done
 for png in soak_window_haptic_rtt_p99_us.png soak_window_rss_mb.png; do
   [ -s "$WORK/b/$png" ] || fail "no plot $png"
 done
-for pid in $(sed -nE 's/.*started +[a-z]+ +pid ([0-9]+).*/\1/p' "$WORK/b/soak_run/up.log"); do
+for pid in $(sed -nE 's/.*started +[a-z]+ +pid ([0-9]+).*/\1/p' "$WORK/w/soak_run/up.log"); do
   alive "$pid" && fail "process $pid of the soak still running"
 done
 echo "bench_soak_test: ok ($(jq -c '[.rows[] | select(.name == "summary")][0].metrics' "$f"))"

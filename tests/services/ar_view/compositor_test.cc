@@ -13,6 +13,7 @@
 
 #include "adapters/vision/vision_idl.h"
 #include "services/ar_view/compositor.h"
+#include "tests/support/samples.h"
 #include "tests/support/temp_dir.h"
 
 namespace hcosim::services::ar_view {
@@ -25,12 +26,8 @@ adapters::render::ViewConfig config(const std::string& extra = "") {
       adapters::Config::parse("objects: [{name: ball, kind: rigid, size: 0.02}]\n" + extra, "v.yaml", "params"), 25);
 }
 
-StepStamp stamp(std::int64_t ms) {
-  StepStamp s;
-  s.step(std::uint64_t(ms));
-  s.sim_time_ns(ms * 1'000'000);
-  return s;
-}
+// Millisecond steps.
+StepStamp stamp(std::int64_t ms) { return tests::stamp(std::uint64_t(ms)); }
 
 // A grey 320 x 240 frame of camera "cam", numbered `frame`, at `ms`.
 CameraFrame frame(std::uint64_t n, std::int64_t ms) {
@@ -100,13 +97,7 @@ TEST(Compositor, TheVideoKeepsTheCamerasTimeAndPicturesAndPlotsAreWritten) {
     view.on(f);
   }
   view.on(frame(3, 120));  // frames 1 and 2 were never sent
-  char* text = nullptr;
-  std::size_t size = 0;
-  std::FILE* log = open_memstream(&text, &size);
-  view.finish(log);
-  std::fclose(log);
-  const std::string said(text, size);
-  std::free(text);
+  const std::string said = tests::written([&](std::FILE* log) { view.finish(log); });
   EXPECT_NE(said.find("view: 2 frames drawn, 2 skipped"), std::string::npos) << said;
   EXPECT_NE(said.find(", 4 frames"), std::string::npos) << said;
   EXPECT_TRUE(fs::exists(dir.path / "ar.mp4"));

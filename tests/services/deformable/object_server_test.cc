@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "services/deformable/object_server.h"
+#include "tests/support/samples.h"
 #include "tests/support/temp_dir.h"
 
 namespace hcosim::services::deformable {
@@ -26,21 +27,8 @@ adapters::deformable::DeformableConfig config() {
       1e-3);
 }
 
-HapticState state(std::uint64_t seq, const Eigen::Vector3d& at) {
-  HapticState s;
-  s.device("omni");
-  s.seq(seq);
-  s.position(adapters::device::to_idl(at));
-  s.orientation().w(1.0);
-  return s;
-}
-
-StepStamp stamp(std::uint64_t step) {
-  StepStamp st;
-  st.step(step);
-  st.sim_time_ns(std::int64_t(step) * 1'000'000);
-  return st;
-}
+using tests::haptic_state;
+using tests::stamp;
 
 std::vector<ForceFeedback> answers(ObjectServer& objects, const HapticState& s) {
   std::vector<ForceFeedback> out;
@@ -57,7 +45,7 @@ TEST(ObjectServer, APressIsAnsweredAndTakenByTheBehaviorModel) {
   // Down through the sheet's middle from 2 mm above to 4 mm below, then held.
   for (std::uint64_t k = 0; k < 400; ++k) {
     const double z = 0.022 - 0.006 * std::min(1.0, k / 200.0);
-    last = answers(objects, state(k, {0.001, 0.002, z}));
+    last = answers(objects, haptic_state(k, {0.001, 0.002, z}));
     ASSERT_EQ(last.size(), 2u) << "lockstep answers every object every state";
     objects.advance(k * 1e-3);
   }
@@ -83,17 +71,11 @@ TEST(ObjectServer, InRealTimeAFreeSpaceAnswerIsNotRepeatedWhileItCovers) {
   tests::TempDir dir;
   ObjectServer objects(config(), 1e-3, true, dir.path.string(), stderr);
   const Eigen::Vector3d far(0, 0, 0.3);
-  EXPECT_EQ(answers(objects, state(0, far)).size(), 2u);
-  EXPECT_TRUE(answers(objects, state(1, far)).empty());
-  EXPECT_TRUE(answers(objects, state(2, far)).empty());
-  EXPECT_EQ(answers(objects, state(100, far)).size(), 2u);
-  char* text = nullptr;
-  std::size_t size = 0;
-  std::FILE* out = open_memstream(&text, &size);
-  objects.report(out, "objects", {});
-  std::fclose(out);
-  const std::string report(text, size);
-  std::free(text);
+  EXPECT_EQ(answers(objects, haptic_state(0, far)).size(), 2u);
+  EXPECT_TRUE(answers(objects, haptic_state(1, far)).empty());
+  EXPECT_TRUE(answers(objects, haptic_state(2, far)).empty());
+  EXPECT_EQ(answers(objects, haptic_state(100, far)).size(), 2u);
+  const std::string report = tests::written([&](std::FILE* out) { objects.report(out, "objects", {}); });
   EXPECT_NE(report.find("objects: 4 object-states left to a free-space answer"), std::string::npos) << report;
   EXPECT_NE(report.find("sheet: 0 ticks in contact, max force 0.000 N, 0 meshes published"), std::string::npos)
       << report;

@@ -12,6 +12,7 @@
 
 #include "adapters/device/haptic_idl.h"
 #include "services/haptic/servo_loop.h"
+#include "tests/support/samples.h"
 #include "tests/support/temp_dir.h"
 
 namespace hcosim::services::haptic {
@@ -27,12 +28,7 @@ adapters::device::DeviceConfig still_stylus(const tests::TempDir& dir) {
 
 runtime::Tick tick(std::uint64_t k) { return {k, std::int64_t(k) * 1'000'000, 1e-3, 0}; }
 
-StepStamp stamp(std::uint64_t k) {
-  StepStamp s;
-  s.step(k);
-  s.sim_time_ns(std::int64_t(k) * 1'000'000);
-  return s;
-}
+using tests::stamp;
 
 // `source`'s answer to state `seq`: 1 N up in contact (a 500 N/m spring)
 // at the stylus, or a free-space model of 5 cm.
@@ -119,10 +115,7 @@ TEST(ServoLoop, TheGroupAnswersEachStepAndOthersCountAtTheNext) {
 
 TEST(ServoLoop, ASilentSourceDropsOutAndIsSaidToBe) {
   tests::TempDir dir;
-  char* text = nullptr;
-  std::size_t size = 0;
-  std::FILE* log = open_memstream(&text, &size);
-  {
+  const std::string said = tests::written([&](std::FILE* log) {
     ServoLoop loop(still_stylus(dir), "omni", {}, false, log);
     loop.begin(tick(0), stamp(0));
     loop.take(contact("cube", 0), 0);
@@ -134,10 +127,7 @@ TEST(ServoLoop, ASilentSourceDropsOutAndIsSaidToBe) {
         << "its force is zero, not its last";
     loop.take(contact("cube", k), k);
     loop.end();
-  }
-  std::fclose(log);
-  const std::string said(text, size);
-  std::free(text);
+  });
   EXPECT_NE(said.find("omni: source 'cube' fell silent"), std::string::npos) << said;
   EXPECT_NE(said.find("omni: source 'cube' answers again"), std::string::npos) << said;
 }

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "services/rigid/body_server.h"
+#include "tests/support/samples.h"
 
 namespace hcosim::services::rigid {
 namespace {
@@ -25,22 +26,8 @@ adapters::rigid::RigidConfig config(const std::string& extra = "") {
                               "params.yaml", "params"));
 }
 
-HapticState state(std::uint64_t seq, const Eigen::Vector3d& at, double device_s) {
-  HapticState s;
-  s.device("omni");
-  s.seq(seq);
-  s.device_time_s(device_s);
-  s.position(adapters::device::to_idl(at));
-  s.orientation().w(1.0);
-  return s;
-}
-
-StepStamp stamp(std::uint64_t step) {
-  StepStamp st;
-  st.step(step);
-  st.sim_time_ns(std::int64_t(step) * 1'000'000);
-  return st;
-}
+using tests::haptic_state;
+using tests::stamp;
 
 // Every answer to one state, by source.
 std::vector<ForceFeedback> answers(BodyServer& server, const HapticState& s, std::uint64_t step) {
@@ -56,7 +43,7 @@ TEST(BodyServer, APressIsAnsweredAndItsForceOwedToTheBodyPushesIt) {
   // The stylus held 5 mm inside the ball's -x side for 50 ticks.
   std::vector<ForceFeedback> first;
   for (std::uint64_t k = 0; k < 50; ++k) {
-    const std::vector<ForceFeedback> a = answers(server, state(k, {-0.015, 0, 0.02}, k * 1e-3), k);
+    const std::vector<ForceFeedback> a = answers(server, haptic_state(k, {-0.015, 0, 0.02}), k);
     ASSERT_EQ(a.size(), 2u) << "lockstep answers every body every state";
     if (k == 0) first = a;
     server.step((k + 1) * 1e-3, stamp(k + 1));
@@ -73,21 +60,15 @@ TEST(BodyServer, APressIsAnsweredAndItsForceOwedToTheBodyPushesIt) {
 TEST(BodyServer, InRealTimeAFreeSpaceAnswerIsNotRepeatedWhileItCovers) {
   BodyServer server(config(), 1e-3, true);
   const Eigen::Vector3d far(0, 0, 0.3);
-  const std::vector<ForceFeedback> first = answers(server, state(0, far, 0), 0);
+  const std::vector<ForceFeedback> first = answers(server, haptic_state(0, far), 0);
   ASSERT_EQ(first.size(), 2u);
   for (const ForceFeedback& f : first) EXPECT_FALSE(f.in_contact());
   // The next ticks' HIPs are still covered by those free-space answers.
-  EXPECT_TRUE(answers(server, state(1, far, 1e-3), 1).empty());
-  EXPECT_TRUE(answers(server, state(2, far, 2e-3), 2).empty());
+  EXPECT_TRUE(answers(server, haptic_state(1, far), 1).empty());
+  EXPECT_TRUE(answers(server, haptic_state(2, far), 2).empty());
   // Far past the horizon, each body is answered again.
-  EXPECT_EQ(answers(server, state(100, far, 0.1), 100).size(), 2u);
-  char* text = nullptr;
-  std::size_t size = 0;
-  std::FILE* out = open_memstream(&text, &size);
-  server.report(out, "bodies");
-  std::fclose(out);
-  const std::string report(text, size);
-  std::free(text);
+  EXPECT_EQ(answers(server, haptic_state(100, far), 100).size(), 2u);
+  const std::string report = tests::written([&](std::FILE* out) { server.report(out, "bodies"); });
   EXPECT_NE(report.find("bodies: 4 body-states left to a free-space answer"), std::string::npos) << report;
   EXPECT_NE(report.find("0 states in contact"), std::string::npos) << report;
   EXPECT_NE(report.find("ball: sphere at ["), std::string::npos) << report;
@@ -121,7 +102,7 @@ TEST(BodyServer, LockstepAnswersTheKeptStateWithoutItsVelocityOnceOld) {
   const auto write = [&](ForceFeedback& f) { out.push_back(f); };
   server.answer_kept(0, stamp(0), write);
   EXPECT_TRUE(out.empty()) << "nothing kept yet";
-  HapticState s = state(7, {-0.015, 0, 0.02}, 0);
+  HapticState s = haptic_state(7, {-0.015, 0, 0.02});
   s.velocity(adapters::device::to_idl({0.5, 0, 0}));
   server.keep(s, 0);
   server.answer_kept(0.001, stamp(1), write);

@@ -12,27 +12,17 @@
 #include "adapters/validate.h"
 #include "adapters/vision/media.h"
 #include "services/tracker/frame_tracker.h"
+#include "tests/support/samples.h"
 #include "tests/support/temp_dir.h"
 
 namespace hcosim::services::tracker {
 namespace {
 
-StepStamp stamp(std::uint64_t step) {
-  StepStamp s;
-  s.step(step);
-  s.sim_time_ns(std::int64_t(step) * 40'000'000);
-  return s;
-}
+// Steps of a 25 Hz camera.
+StepStamp stamp(std::uint64_t step) { return tests::stamp(step, 40'000'000); }
 
 std::string report_of(const FrameTracker& t) {
-  char* text = nullptr;
-  std::size_t size = 0;
-  std::FILE* out = open_memstream(&text, &size);
-  t.report(out);
-  std::fclose(out);
-  const std::string said(text, size);
-  std::free(text);
-  return said;
+  return tests::written([&](std::FILE* out) { t.report(out); });
 }
 
 TEST(FrameTracker, ASyntheticTagIsPosedInEveryFrameNearItsTruth) {
