@@ -1,7 +1,7 @@
 // The mass-spring simulator's working state and the steps that share it:
-// simulator.cc (set-up, volume floors, a step's substeps), active_set.cc
-// (the adaptive model's simulated set), explicit_step.cc and
-// implicit_step.cc (the integrators). Not an API: use simulator.h.
+// simulator.cc (set-up, volume floors, a step's substeps and the explicit
+// integrators), active_set.cc (the adaptive model's simulated set) and
+// implicit_step.cc (the implicit integrators). Not an API: use simulator.h.
 #pragma once
 
 #include <cstdint>
