@@ -230,7 +230,8 @@ void goal(std::ostream& md, const Goal& g, const std::vector<Row>& rows) {
     md << "**not measured** (no such row)\n";
     return;
   }
-  md << (v.met() ? "**met**" : "**not met**") << ", worst " << text(v.worst) << " over " << v.rows << " rows";
+  md << (v.met() ? "**met**" : "**not met**") << ", worst " << text(v.worst) << " over " << v.rows
+     << (v.rows == 1 ? " row" : " rows");
   if (!v.met()) {
     md << "; missed by";
     for (const auto& m : v.misses) md << " " << m << ";";
@@ -281,7 +282,8 @@ std::string page_part(const std::vector<Result>& results) {
       md << "| `" << r.suite->name << "` | " << md_cell(g.text) << " | `" << g.row << "`"
          << (g.where.empty() ? "" : " with " + g.where + " " + g.is) << ": `" << g.metric << "` "
          << (g.at_least ? ">=" : "<=") << " " << text(g.bound) << " | "
-         << (v.rows == 0 ? "" : text(v.worst) + " (" + std::to_string(v.rows) + " rows)") << " | "
+         << (v.rows == 0 ? "" : text(v.worst) + " (" + std::to_string(v.rows) + (v.rows == 1 ? " row)" : " rows)"))
+         << " | "
          << (!r.error.empty() ? "the suite failed"
              : v.rows == 0    ? "not measured"
              : v.met()        ? "met"

@@ -74,7 +74,7 @@ fi
 # The report: its p99 goal's verdict follows from the rows.
 md="$WORK/b/index.md"
 [ -s "$md" ] || fail "no $md"
-grep -qF "Measured by \`hcosim bench dds --quick --domain $DOMAIN --out $WORK/b\`. " "$md" ||
+grep -qE "^Measured by \`hcosim bench dds --quick --domain $DOMAIN --out $WORK/b\` at commit \`[0-9a-f]{40}\` \((a clean tree|\*\*with changes git had not committed\*\*)\)\. " "$md" ||
   fail "index.md does not name its command: $(sed -n 3p "$md")"
 grep -q '^### mesh_pub$' "$md" || fail "no mesh_pub table"
 [ "$(grep -cE '^\| (1000|10000|100000) \| (1|3) \| (bare|hcosim) \| 60 \|' "$md")" -eq 12 ] ||

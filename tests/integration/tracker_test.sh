@@ -4,7 +4,8 @@
 # MarkerPose and CameraFrame reach subscribers, the synthetic tracker's
 # poses match the truth. A folder tracker that is not looping finishes the
 # run at the end of its frames. In lockstep the tracker steps at its own
-# rate. Bad configurations end with the file and line.
+# rate. Bad configurations end with the file and line. The tracker does
+# not link OpenCV's codecs.
 source "$(dirname "$0")/lib.sh"
 "$BIN/hcosim" synth --out "$WORK/s" --frames 10 >/dev/null 2>&1 || fail "synth exited $?"
 deployment up.yaml <<'YAML'
@@ -92,4 +93,10 @@ one typo.yaml "{source: synthetic, tag_sise: 0.05}"
 bad typo.yaml 2 "typo.yaml:5:[0-9]+: unknown key 'tag_sise'; did you mean 'tag_size'"
 one v4l2.yaml "{source: v4l2, device: /dev/video_hcosim_absent, camera: s/camera.yaml}"
 bad v4l2.yaml 1 "V4L2 camera /dev/video_hcosim_absent: no such device"
+
+# OpenCV's codecs, and the hundreds of libraries they bring, load only when
+# a source needs them: the tracker itself does not link them.
+if ldd "$BIN/hcosim_tracker" | grep -qE 'libopencv_(videoio|imgcodecs)'; then
+  fail "hcosim_tracker links OpenCV's codecs: $(ldd "$BIN/hcosim_tracker" | grep -E 'videoio|imgcodecs')"
+fi
 echo "tracker_test: ok"

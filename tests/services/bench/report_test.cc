@@ -36,7 +36,7 @@ TEST(Report, ThePagePartJudgesEveryGoalFromTheRows) {
   EXPECT_NE(part.find("| `demo` | at least 10 times faster | `tick`: `speedup` >= 10 | 12 (2 rows) | met |"),
             std::string::npos)
       << part;
-  EXPECT_NE(part.find("| `tick` with kind fast: `lost` <= 0 | 0 (1 rows) | met |"), std::string::npos) << part;
+  EXPECT_NE(part.find("| `tick` with kind fast: `lost` <= 0 | 0 (1 row) | met |"), std::string::npos) << part;
   EXPECT_NE(part.find("| `other`: `x` <= 1 |  | not measured |"), std::string::npos) << part;
 
   r.tree.clean = false;
