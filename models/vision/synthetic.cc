@@ -98,10 +98,10 @@ cv::Mat SyntheticCamera::render(const Eigen::Isometry3d& pose, const Conditions&
   const Eigen::Matrix3d H = T * K * P * A;
   cv::Mat frame(k_.height, k_.width, CV_8U, cv::Scalar(kBackground));
   // Only the sheet's footprint is warped and averaged down: the rest of
-  // the frame is background, and warping the whole supersampled frame
-  // took a third of a core at 30 Hz. The
-  // footprint is aligned to whole output pixels, so each averaged block is
-  // the same as in a full warp.
+  // the frame is background, which a warp of the whole supersampled frame
+  // would compute at every frame for nothing. The footprint is aligned to
+  // whole output pixels, so each averaged block is the same as in a full
+  // warp.
   const cv::Rect out = footprint(H);
   if (!out.empty()) {
     const cv::Rect in(out.x * kSupersample, out.y * kSupersample, out.width * kSupersample, out.height * kSupersample);
