@@ -165,41 +165,12 @@ void check_placement(const Config& root, const Deployment& d) {
   }
 }
 
-Scene parse_scene(const Config& c) {
-  if (!c.node().IsMap()) c.fail("", "'scene' must be a map of marker, camera and objects");
-  c.allow_only(keys::kScene);
-  Scene scene;
-  scene.defined = true;
-  if (c.has("marker")) {
-    if (!c.node()["marker"].IsMap()) c.fail("marker", "'marker' must be a map");
-    const Config m = c.map("marker");
-    m.allow_only(keys::kMarker);
-    if (m.has("friction")) m.number("friction", 0.5, 0, 10);  // checked here, where its line is known
-    scene.marker = m.node();
-  }
-  if (c.has("camera")) {
-    if (!c.node()["camera"].IsMap())
-      c.fail("camera", "'camera' must be a map of the tracker's params (docs/tracking.md)");
-    scene.camera = c.map("camera").node();
-  }
-  std::set<std::string> names;
-  for (const Config& o : c.list("objects")) {
-    o.require({"name", "kind"}, "scene object");
-    const std::string name = o.string("name", "");
-    const std::string kind = o.string("kind", "");
-    if (kind != "rigid" && kind != "deformable")
-      o.fail("kind", "scene object kind must be rigid or deformable, not '" + kind + "'");
-    if (!names.insert(name).second) o.fail("name", "scene object '" + name + "' is defined twice");
-    scene.objects.push_back(o.node());
-  }
-  return scene;
-}
-
-// The scene's part for one service, added to its params unless they give
-// their own: deformable and rigid services get the scene's objects of
-// their kind (as `objects` and `bodies`), the tracker the camera and the
-// marker, the AR view every object (kind kept) and the marker's id. A
-// service with nothing to serve is marked unneeded.
+// The scene's objects and camera for one service, added to its params
+// unless they give their own: deformable and rigid services get the
+// scene's objects of their kind (as `objects` and `bodies`), the tracker
+// the camera, the AR view every object (kind kept). The marker is no
+// service's params: each reader takes it typed. A service with nothing to
+// serve is marked unneeded.
 void add_scene(const std::string& file, const Scene& scene, ServiceSpec& s, const YAML::Node& entry) {
   for (std::size_t i = 0; i < s.objects.size(); ++i) {
     bool found = false;
@@ -226,8 +197,6 @@ void add_scene(const std::string& file, const Scene& scene, ServiceSpec& s, cons
     }
     return list;
   };
-  if (s.kind == "rigid" && scene.marker.IsMap() && scene.marker["friction"] && !params["floor_friction"])
-    params["floor_friction"] = scene.marker["friction"];
   if (s.kind == "deformable" || s.kind == "rigid") {
     const char* key = s.kind == "rigid" ? "bodies" : "objects";
     if (!params[key]) {
@@ -238,19 +207,13 @@ void add_scene(const std::string& file, const Scene& scene, ServiceSpec& s, cons
         params[key] = list;
     }
   } else if (s.kind == "tracker") {
-    // An absent camera or marker is a null node, which converts to true: ask IsMap.
+    // An absent camera is a null node, which converts to true: ask IsMap.
     if (scene.camera.IsMap())
       for (const auto& kv : scene.camera)
         if (!params[kv.first.Scalar()]) params[kv.first.Scalar()] = kv.second;
-    if (scene.marker.IsMap()) {
-      const std::pair<const char*, const char*> keys[] = {{"family", "family"}, {"size", "tag_size"}, {"id", "tag_id"}};
-      for (const auto& [from, to] : keys)
-        if (scene.marker[from] && !params[to]) params[to] = scene.marker[from];
-    }
     if (!scene.camera.IsMap() && !own_params && scene.defined) s.unneeded = "the scene has no camera";
   } else if (s.kind == "ar_view") {
     if (!params["objects"]) params["objects"] = objects_of("");
-    if (scene.marker.IsMap() && scene.marker["id"] && !params["tag_id"]) params["tag_id"] = scene.marker["id"];
     if (!scene.camera.IsMap() && !own_params && scene.defined) s.unneeded = "the scene has no camera";
   }
   if (!s.objects.empty() && s.kind != "deformable" && s.kind != "rigid")
@@ -289,7 +252,7 @@ namespace {
 void give_tip_radius(const std::string& file, Deployment& d) {
   for (const ServiceSpec& device : d.services) {
     if (device.kind != "haptic" || !device.params["tip_radius"]) continue;
-    adapters::Config(file, device.params).number("tip_radius", 0, 0, 0.01);
+    adapters::Config(file, device.params).number("tip_radius", 0, 0, device::kMaxTipRadius);
     for (ServiceSpec& s : d.services) {
       if (s.kind != "rigid" && s.kind != "deformable") continue;
       const YAML::Node dev = s.params["device"];
@@ -345,7 +308,7 @@ Deployment load_deployment(const std::string& path) {
     parse_hosts(root, d);
   }
   if (root.has("network")) parse_network(root, d);
-  if (root.has("scene")) d.scene = parse_scene(Config(path, root.node()["scene"]));
+  if (root.has("scene")) d.scene = scene_config(Config(path, root.node()["scene"]));
   if (root.has("services")) {
     const YAML::Node n = root.node()["services"];
     if (!n.IsSequence()) root.fail("services", "'services' must be a list");

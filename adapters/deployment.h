@@ -10,6 +10,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "adapters/config.h"
+#include "adapters/scene.h"
 
 namespace hcosim::adapters {
 
@@ -25,8 +26,6 @@ inline const std::vector<std::string> kSecurity{"dir"};
 inline const std::vector<std::string> kHost{"name", "address", "interface", "clock"};
 inline const std::vector<std::string> kNetwork{"discovery",         "server",   "server_port", "transport",
                                                "socket_buffer_kib", "bulk_mbit"};
-inline const std::vector<std::string> kScene{"marker", "camera", "objects"};
-inline const std::vector<std::string> kMarker{"family", "id", "size", "friction"};
 inline const std::vector<std::string> kService{"name",    "kind",     "rate", "params", "on_failure",
                                                "objects", "priority", "cpu",  "host"};
 }  // namespace keys
@@ -84,17 +83,6 @@ bool observes(const ServiceSpec& s);
 // hold in `mode`: a lockstep run waits on every follower at every step, so
 // a follower can neither be missing nor rejoin.
 void check_policy(const ServiceSpec& s, Mode mode);
-
-// The scene: what the services serve (docs/deployment.md, "The scene").
-// Each object is a map with `name` and `kind` (rigid or deformable) and
-// the keys of its service's objects; the camera is the tracker's params;
-// the marker gives the tracker its tag.
-struct Scene {
-  bool defined = false;             // the file has a scene: services it does not need are not started
-  YAML::Node marker;                // {family, id, size}, or null
-  YAML::Node camera;                // a map, or null
-  std::vector<YAML::Node> objects;  // maps with name and kind
-};
 
 // How the hosts find each other and what carries their samples
 // (docs/deployment.md, "The network"); it applies to the processes of

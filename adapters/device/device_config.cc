@@ -30,7 +30,7 @@ DeviceConfig device_config(const Config& p, double servo_hz) {
   const double dt = 1 / servo_hz;
   c.answer_wait = p.number("answer_wait", kAnswerShare * dt, 0, 0.9 * dt);
   c.report = p.output_path("report");
-  c.tip_radius = p.number("tip_radius", c.tip_radius, 0, 0.01);
+  c.tip_radius = p.number("tip_radius", c.tip_radius, 0, kMaxTipRadius);
   return c;
 }
 

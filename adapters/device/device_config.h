@@ -17,6 +17,9 @@ namespace hcosim::adapters::device {
 // AR view draws, unless their params name another (their `device`).
 inline constexpr const char* kDefaultDevice = "omni";
 
+// m: the largest stylus tip any config takes (a tool tip, not a probe).
+inline constexpr double kMaxTipRadius = 0.01;
+
 struct DeviceConfig {
   bool replay = false;            // device: replay (a trajectory) or simulated (a virtual user)
   std::string source;             // the trajectory (CSV) or the virtual-user script (YAML)

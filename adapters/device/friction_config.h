@@ -8,6 +8,10 @@
 
 namespace hcosim::adapters::device {
 
+// The highest friction coefficient any config takes: above it is a typo,
+// not a material.
+inline constexpr double kMaxFriction = 10;
+
 // Throws adapters::ConfigError at FILE:LINE:COL for a coefficient outside
 // [0, 10], a map with another key or without both, or a dynamic
 // coefficient above the static one.

@@ -2,25 +2,24 @@
 
 #include <algorithm>
 
+#include "adapters/rigid/rigid_config.h"
 #include "models/render/view.h"
-#include "models/rigid/body.h"
 
 namespace hcosim::adapters::render {
 
-ViewConfig view_config(const Config& p, double rate_hz) {
+ViewConfig view_config(const Config& p, double rate_hz, const MarkerSpec& marker) {
   p.allow_only(
       {"camera", "tag_id", "device", "objects", "video", "snapshots", "plots", "force_scale", "stylus", "fps"});
   ViewConfig v;
   v.camera = p.string("camera", v.camera);
-  v.tag_id = p.whole("tag_id", v.tag_id, 0, 1000000);
+  v.tag_id = p.whole("tag_id", marker.id.value_or(v.tag_id), 0, tag::kMaxId);
   v.device = p.string("device", v.device);
   for (const Config& o : p.list("objects")) {
     ViewItem it;
     it.name = o.string("name", "");
     if (it.name.empty()) o.fail("name", "each object needs a name");
     it.kind = o.text("kind", "deformable", {"rigid", "deformable"});
-    // A rigid body's size means what the rigid service reads, with its default.
-    if (it.kind == "rigid") it.size = o.number("size", models::rigid::Body().size, 1e-3, 1);
+    if (it.kind == "rigid") it.size = rigid::body_size(o);
     it.colour = models::render::object_colour(v.items.size());
     v.items.push_back(it);
   }

@@ -10,6 +10,7 @@
 
 #include "adapters/config.h"
 #include "adapters/device/device_config.h"
+#include "adapters/scene.h"
 
 namespace hcosim::adapters::render {
 
@@ -35,8 +36,10 @@ struct ViewConfig {
 };
 
 // `rate_hz`: the service's rate, the video's frame rate unless `fps` says.
+// `marker`: the scene's, whose id is the view's unless the params give
+// `tag_id`.
 // Throws adapters::ConfigError at FILE:LINE:COL for an unknown key or a
 // value out of range.
-ViewConfig view_config(const Config& params, double rate_hz);
+ViewConfig view_config(const Config& params, double rate_hz, const MarkerSpec& marker = {});
 
 }  // namespace hcosim::adapters::render

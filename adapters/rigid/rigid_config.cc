@@ -7,7 +7,7 @@ namespace {
 
 models::rigid::Material material(const Config& p, const std::string& prefix, models::rigid::Material m) {
   m.restitution = p.number(prefix + "restitution", m.restitution, 0, 1);
-  m.friction = p.number(prefix + "friction", m.friction, 0, 10);
+  m.friction = p.number(prefix + "friction", m.friction, 0, device::kMaxFriction);
   return m;
 }
 
@@ -15,7 +15,7 @@ models::rigid::Body body(const Config& o, bool ground) {
   o.allow_only({"name", "shape", "size", "mass", "centre", "velocity", "angular_velocity", "friction"});
   models::rigid::Body b;
   b.shape = models::rigid::parse_shape(o.text("shape", "sphere", {"sphere", "cube"}));
-  b.size = o.number("size", b.size, 1e-3, 1);
+  b.size = body_size(o);
   b.mass = o.number("mass", b.mass, 1e-3, 100);
   const auto c = o.vec3("centre", {0, 0, b.size});
   const auto v = o.vec3("velocity", {0, 0, 0});
@@ -32,7 +32,9 @@ models::rigid::Body body(const Config& o, bool ground) {
 
 }  // namespace
 
-RigidConfig rigid_config(const Config& p) {
+double body_size(const Config& o) { return o.number("size", models::rigid::Body().size, 1e-3, 1); }
+
+RigidConfig rigid_config(const Config& p, const MarkerSpec& marker) {
   p.allow_only({"device", "backend", "bodies", "ground", "pair_restitution", "pair_friction", "floor_restitution",
                 "floor_friction", "tip_radius", "stiffness", "damping", "max_force", "mujoco_substeps"});
   RigidConfig r;
@@ -40,8 +42,11 @@ RigidConfig rigid_config(const Config& p) {
   r.backend = p.text("backend", r.backend, {"analytic", "mujoco", "crosscheck"});
   r.spec.ground = p.on("ground", r.spec.ground);
   r.spec.pair = material(p, "pair_", r.spec.pair);
-  r.spec.floor = material(p, "floor_", r.spec.floor);
-  r.spec.tip_radius = p.number("tip_radius", 0, 0, 0.01);  // a point unless told (the device's, by hcosim up)
+  models::rigid::Material floor = r.spec.floor;
+  floor.friction = marker.friction.value_or(floor.friction);
+  r.spec.floor = material(p, "floor_", floor);
+  r.spec.tip_radius =
+      p.number("tip_radius", 0, 0, device::kMaxTipRadius);  // a point unless told (the device's, by hcosim up)
   r.coupling.stiffness = p.number("stiffness", r.coupling.stiffness, 1, 1e4);
   r.coupling.damping = p.number("damping", r.coupling.damping, 0, 100);
   r.coupling.max_force = p.number("max_force", r.coupling.max_force, 0.1, 100);

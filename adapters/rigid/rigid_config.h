@@ -8,6 +8,7 @@
 
 #include "adapters/config.h"
 #include "adapters/device/device_config.h"
+#include "adapters/scene.h"
 #include "models/haptic/friction.h"
 #include "models/rigid/coupling.h"
 #include "models/rigid/world.h"
@@ -25,9 +26,14 @@ struct RigidConfig {
   std::vector<models::haptic::Friction> frictions;  // the stylus against each body, felt through its proxy
 };
 
-// Throws adapters::ConfigError at FILE:LINE:COL for an unknown key, a value
-// out of range, a body without a unique name or starting inside the
-// marker plane, or no body at all.
-RigidConfig rigid_config(const Config& params);
+// `marker`: the scene's, whose friction is the plane's unless the params
+// give `floor_friction`. Throws adapters::ConfigError at FILE:LINE:COL for
+// an unknown key, a value out of range, a body without a unique name or
+// starting inside the marker plane, or no body at all.
+RigidConfig rigid_config(const Config& params, const MarkerSpec& marker = {});
+
+// A body's `size` (half-edge or radius, m) as rigid_config reads it, for
+// those that draw the body: its default when absent.
+double body_size(const Config& body);
 
 }  // namespace hcosim::adapters::rigid

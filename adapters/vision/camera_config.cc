@@ -18,10 +18,10 @@ models::vision::Orbit orbit_params(const Config& p) {
   return o;
 }
 
-models::vision::TrackerParams tracker_params(const Config& p) {
+models::vision::TrackerParams tracker_params(const Config& p, const MarkerSpec& marker) {
   models::vision::TrackerParams t;
   models::vision::DetectorParams& d = t.detector;
-  d.family = p.text("family", d.family, {"tag36h11", "tag25h9", "tag16h5", "tagStandard41h12"});
+  d.family = p.text("family", marker.family.value_or(d.family), tag::kFamilies);
   d.quad_decimate = p.number("quad_decimate", d.quad_decimate, 1, 8);
   d.quad_sigma = p.number("quad_sigma", d.quad_sigma, -5, 5);
   d.nthreads = p.whole("nthreads", d.nthreads, 1, 64);
@@ -30,13 +30,13 @@ models::vision::TrackerParams tracker_params(const Config& p) {
   d.max_hamming = p.whole("max_hamming", d.max_hamming, 0, 3);
   d.refine_corners = p.on("refine_corners", d.refine_corners);
   t.pose.refine = p.on("refine_pose", t.pose.refine);
-  t.tag_size = p.number("tag_size", t.tag_size, 1e-3, 10);
+  t.tag_size = p.number("tag_size", marker.size.value_or(t.tag_size), tag::kMinSize, tag::kMaxSize);
   return t;
 }
 
 }  // namespace
 
-CameraConfig camera_config(const Config& p, double rate_hz) {
+CameraConfig camera_config(const Config& p, double rate_hz, const MarkerSpec& marker) {
   p.allow_only({"source",        "path",           "device",      "camera",       "width",
                 "height",        "condition",      "tag_id",      "family",       "tag_size",
                 "quad_decimate", "quad_sigma",     "nthreads",    "refine_edges", "decode_sharpening",
@@ -44,7 +44,7 @@ CameraConfig camera_config(const Config& p, double rate_hz) {
                 "sheet",         "orbit"});
   const std::string kind = p.text("source", "synthetic", {"synthetic", "folder", "video", "v4l2"});
   CameraConfig c;
-  c.tracker = tracker_params(p);
+  c.tracker = tracker_params(p, marker);
   const models::vision::TrackerParams& tp = c.tracker;
   c.publish_frames = p.on("frames", c.publish_frames);
   c.loop = p.on("loop", c.loop);
@@ -60,7 +60,7 @@ CameraConfig camera_config(const Config& p, double rate_hz) {
   if (kind == "synthetic") {
     models::vision::Marker m;
     m.family = tp.detector.family;
-    m.id = p.whole("tag_id", 0, 0, 1000000);
+    m.id = p.whole("tag_id", marker.id.value_or(0), 0, tag::kMaxId);
     m.tag_size = tp.tag_size;
     m.sheet = p.number("sheet", m.sheet, 1.25, 10);
     const models::vision::Orbit path = orbit_params(p.map("orbit"));

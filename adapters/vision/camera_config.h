@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include "adapters/config.h"
+#include "adapters/scene.h"
 #include "adapters/vision/source.h"
 #include "models/vision/tracker.h"
 
@@ -27,8 +28,9 @@ struct CameraConfig {
 };
 
 // `rate_hz`: the service's rate, the synthetic and V4L2 cameras' frame
-// rate. Throws adapters::ConfigError at FILE:LINE:COL for an unknown key,
-// a value out of range, or a source without its file.
-CameraConfig camera_config(const Config& params, double rate_hz);
+// rate. `marker`: the scene's, whose family, size and id are the tag's
+// unless the params give `family`, `tag_size` and `tag_id`. Throws adapters::ConfigError at FILE:LINE:COL for an
+// unknown key, a value out of range, or a source without its file.
+CameraConfig camera_config(const Config& params, double rate_hz, const MarkerSpec& marker = {});
 
 }  // namespace hcosim::adapters::vision

@@ -21,8 +21,9 @@ constexpr int kTraceDepth = 256;
 
 int run(const Options& options) {
   Service svc(options);
-  services::ar_view::Compositor view(adapters::render::view_config(svc.params(), svc.options().rate_hz),
-                                     svc.options().out, svc.options().name);
+  services::ar_view::Compositor view(
+      adapters::render::view_config(svc.params(), svc.options().rate_hz, svc.deployment().scene.marker),
+      svc.options().out, svc.options().name);
   Reader<CameraFrame> frames = svc.reader<CameraFrame>();
   Reader<MarkerPose> poses = svc.reader<MarkerPose>();
   Reader<DeformedMesh> meshes = svc.reader<DeformedMesh>();

@@ -26,7 +26,7 @@ int serve(const FoxgloveOptions& o) {
   std::vector<adapters::foxglove::Item> items;
   if (!o.deployment.empty()) {
     const adapters::Deployment d = adapters::load_deployment(o.deployment);
-    items = foxglove::panel_items(d), scene.tag_id = foxglove::marker_id(d);
+    items = foxglove::panel_items(d), scene.tag_id = d.scene.marker.id.value_or(scene.tag_id);
   }
   runtime::Participant p(o.dds.domain, "hcosim_foxglove", runtime::default_qos_file(), nullptr, false, o.dds.security);
   foxglove::Server server(o.server);

@@ -43,7 +43,7 @@ int record_topics(const RecordOptions& o) {
     adapters::foxglove::Options scene;
     if (!o.deployment.empty()) {
       const adapters::Deployment d = adapters::load_deployment(o.deployment);
-      items = foxglove::panel_items(d), scene.tag_id = foxglove::marker_id(d);
+      items = foxglove::panel_items(d), scene.tag_id = d.scene.marker.id.value_or(scene.tag_id);
     }
     derive = foxglove::panel_channels(std::move(items), scene);
   }

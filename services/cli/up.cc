@@ -280,7 +280,7 @@ int up(const UpOptions& o) {
   std::unique_ptr<recording::Recorder> recorder;
   if (!o.record.empty()) {
     adapters::foxglove::Options scene;
-    scene.tag_id = foxglove::marker_id(d);
+    scene.tag_id = d.scene.marker.id.value_or(scene.tag_id);
     recorder = std::make_unique<recording::Recorder>(*participant, o.record, std::vector<std::string>{},
                                                      recording::format_of(o.record), recording::McapCompression::zstd,
                                                      foxglove::panel_channels(foxglove::panel_items(d), scene));

@@ -5,6 +5,7 @@
 // runs on the wall clock and the lockstep clock does not wait for it.
 #include <cstdio>
 
+#include "adapters/foxglove/bridge_config.h"
 #include "services/foxglove/bridge.h"
 #include "services/foxglove/panels.h"
 #include "services/runtime/service.h"
@@ -19,18 +20,14 @@ int main(int argc, char** argv) {
       [](runtime::Options options) {
         options.mode = adapters::Mode::kRealtime;
         runtime::Service svc(options);
-        const adapters::Config& c = svc.params();
-        c.allow_only({"port", "address", "jpeg_quality", "scene_rate", "client_limit_mb"});
+        const adapters::foxglove::BridgeConfig config =
+            adapters::foxglove::bridge_config(svc.params(), svc.deployment().scene.marker);
         foxglove::ServerOptions so;
-        so.port = c.whole("port", so.port, 0, 65535);
-        so.address = c.string("address", so.address);
-        so.client_limit_bytes = std::size_t(c.number("client_limit_mb", so.client_limit_bytes / 1e6, 0.01, 1e4) * 1e6);
-        adapters::foxglove::Options scene;
-        scene.tag_id = foxglove::marker_id(svc.deployment());
-        scene.jpeg_quality = c.whole("jpeg_quality", scene.jpeg_quality, 0, 100);
-        scene.rate_hz = c.number("scene_rate", scene.rate_hz, 1, 1000);
+        so.port = config.port;
+        so.address = config.address;
+        so.client_limit_bytes = config.client_limit_bytes;
         foxglove::Server server(so);
-        foxglove::Bridge bridge(svc.participant(), server, foxglove::panel_items(svc.deployment()), scene);
+        foxglove::Bridge bridge(svc.participant(), server, foxglove::panel_items(svc.deployment()), config.panels);
         const std::string& name = svc.options().name;
         std::printf("%s: serving ws://%s:%d (foxglove.websocket.v1)\n", name.c_str(), server.address().c_str(),
                     server.port());

@@ -3,7 +3,7 @@
 #include <memory>
 #include <type_traits>
 
-#include "models/rigid/body.h"
+#include "adapters/rigid/rigid_config.h"
 
 namespace hcosim::services::foxglove {
 
@@ -13,14 +13,10 @@ std::vector<adapters::foxglove::Item> panel_items(const adapters::Deployment& d)
     adapters::foxglove::Item it;
     it.name = o["name"].Scalar();
     it.kind = o["kind"].Scalar();
-    if (it.kind == "rigid") it.size = o["size"] ? o["size"].as<double>() : models::rigid::Body().size;
+    if (it.kind == "rigid") it.size = adapters::rigid::body_size(adapters::Config(d.file, o));
     items.push_back(it);
   }
   return items;
-}
-
-int marker_id(const adapters::Deployment& d) {
-  return d.scene.marker.IsMap() && d.scene.marker["id"] ? d.scene.marker["id"].as<int>() : 0;
 }
 
 recording::Derive panel_channels(std::vector<adapters::foxglove::Item> items, adapters::foxglove::Options o) {

@@ -12,9 +12,8 @@
 namespace hcosim::services::foxglove {
 
 // The scene's objects in the file's order (the AR view's colours), a rigid
-// body's size as the rigid service reads it; the scene's marker id.
+// body's size as the rigid service reads it.
 std::vector<adapters::foxglove::Item> panel_items(const adapters::Deployment& d);
-int marker_id(const adapters::Deployment& d);
 
 // Each record's Foxglove messages. Not thread-safe: the recorder calls it
 // under its lock.

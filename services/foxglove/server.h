@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+#include "adapters/foxglove/bridge_config.h"
+
 namespace hcosim::services::foxglove {
 
 // A channel as the protocol's advertise message names it.
@@ -31,10 +33,13 @@ struct Channel {
 };
 
 struct ServerOptions {
-  std::string address = "127.0.0.1";         // the interface to listen on
-  int port = 8765;                           // 0: any free port (port() says which)
-  std::string name = "hcosim";               // serverInfo's name
-  std::size_t client_limit_bytes = 8000000;  // a client's unsent bytes above which it gets no more messages
+  // The interface to listen on, the port (0: any free one, port() says
+  // which), and a client's unsent bytes above which it gets no more
+  // messages: the bridge service's defaults.
+  std::string address = adapters::foxglove::BridgeConfig().address;
+  int port = adapters::foxglove::BridgeConfig().port;
+  std::size_t client_limit_bytes = adapters::foxglove::BridgeConfig().client_limit_bytes;
+  std::string name = "hcosim";  // serverInfo's name
   // The kernel's send buffer of each client's socket (SO_SNDBUF): capped,
   // so that a client that stops reading shows as unsent bytes here within
   // a few hundred kB, not after megabytes queued by the kernel's tuning.

@@ -19,7 +19,8 @@ namespace {
 
 int run(const Options& options) {
   Service svc(options);
-  const adapters::rigid::RigidConfig config = adapters::rigid::rigid_config(svc.params());
+  const adapters::rigid::RigidConfig config =
+      adapters::rigid::rigid_config(svc.params(), svc.deployment().scene.marker);
   const double dt = 1 / svc.options().rate_hz;
   const bool realtime = svc.options().mode == adapters::Mode::kRealtime;
   if (config.backend != "analytic") {

@@ -18,8 +18,9 @@ namespace {
 int run(const Options& options) {
   Service svc(options);
   const std::string& name = svc.options().name;
-  services::tracker::FrameTracker tracker(adapters::vision::camera_config(svc.params(), svc.options().rate_hz), name,
-                                          stdout);
+  services::tracker::FrameTracker tracker(
+      adapters::vision::camera_config(svc.params(), svc.options().rate_hz, svc.deployment().scene.marker), name,
+      stdout);
   const adapters::vision::CameraConfig& camera = tracker.camera();
   std::printf("%s: %s; %s tags of %.4g m\n", name.c_str(), camera.source->describe().c_str(),
               camera.tracker.detector.family.c_str(), camera.tracker.tag_size);

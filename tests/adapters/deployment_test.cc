@@ -231,7 +231,7 @@ TEST(Deployment, MissingFileIsNamed) {
   }
 }
 
-TEST(Deployment, TheArViewGetsEveryObjectAndTheMarker) {
+TEST(Deployment, TheArViewGetsEveryObject) {
   const std::string f = write_file("ar.yaml",
                                    "scene:\n  marker: {id: 7, size: 0.03}\n  camera: {source: synthetic}\n"
                                    "  objects:\n    - {name: box, kind: rigid, shape: cube, size: 0.01}\n"
@@ -240,7 +240,6 @@ TEST(Deployment, TheArViewGetsEveryObjectAndTheMarker) {
   const Deployment d = load_deployment(f);
   const adapters::Config p(f, d.services[0].params);
   EXPECT_TRUE(d.services[0].unneeded.empty());
-  EXPECT_EQ(p.number("tag_id", 0, 0, 100), 7);
   const std::vector<adapters::Config> objects = p.list("objects");
   ASSERT_EQ(objects.size(), 2u);
   EXPECT_EQ(objects[0].string("kind", ""), "rigid");
@@ -252,21 +251,24 @@ TEST(Deployment, TheArViewGetsEveryObjectAndTheMarker) {
   EXPECT_EQ(no_camera.services[0].unneeded, "the scene has no camera");
 }
 
-// The marker's friction is the plane's for the rigid bodies; a service's
-// own floor_friction wins; a bad one is named at its line.
-TEST(Deployment, TheMarkersFrictionIsThePlanesForRigidBodies) {
-  const std::string f = write_file("plane.yaml",
-                                   "scene:\n  marker: {id: 0, friction: 0.8}\n"
-                                   "  objects: [{name: box, kind: rigid, shape: cube, size: 0.01}]\n"
-                                   "services:\n  - {name: bodies, kind: rigid, rate: 100}\n"
-                                   "  - {name: own, kind: rigid, rate: 100, params: {floor_friction: 0.1}}\n");
+// The marker is read once, typed; no service's params get its keys under
+// other names (each reader takes the marker itself).
+TEST(Deployment, TheMarkerIsTypedAndNoServicesParams) {
+  const std::string f =
+      write_file("plane.yaml",
+                 "scene:\n  marker: {family: tag25h9, id: 7, size: 0.03, friction: 0.8}\n"
+                 "  camera: {source: synthetic}\n"
+                 "  objects: [{name: box, kind: rigid, shape: cube, size: 0.01}]\n"
+                 "services:\n  - {name: bodies, kind: rigid, rate: 100}\n"
+                 "  - {name: cam, kind: tracker, rate: 25}\n  - {name: view, kind: ar_view, rate: 25}\n");
   const Deployment d = load_deployment(f);
-  EXPECT_EQ(adapters::Config(f, d.services[0].params).number("floor_friction", 0, 0, 10), 0.8);
-  EXPECT_EQ(adapters::Config(f, d.services[1].params).number("floor_friction", 0, 0, 10), 0.1);
-  const std::string e = tests::message_of<ConfigError>(
-      [] { load_deployment(write_file("bad_plane.yaml", "scene:\n  marker: {friction: -2}\nservices: []\n")); });
-  EXPECT_NE(e.find("bad_plane.yaml:2:"), std::string::npos) << e;
-  EXPECT_NE(e.find("'friction' = -2 is outside [0, 10]"), std::string::npos) << e;
+  EXPECT_EQ(d.scene.marker.family, "tag25h9");
+  EXPECT_EQ(d.scene.marker.id, 7);
+  EXPECT_EQ(d.scene.marker.size, 0.03);
+  EXPECT_EQ(d.scene.marker.friction, 0.8);
+  for (const ServiceSpec& s : d.services)
+    for (const char* key : {"floor_friction", "family", "tag_size", "tag_id", "id", "size", "friction"})
+      EXPECT_FALSE(s.params[key]) << s.name << " got '" << key << "'";
 }
 
 // The device's tip_radius reaches the services of its contacts (not

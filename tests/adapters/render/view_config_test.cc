@@ -32,6 +32,15 @@ TEST(ViewConfig, ReadsTheScenesObjectsAndTheOutputs) {
   EXPECT_EQ(v.fps, 30);  // the camera's rate: the service's
 }
 
+// The scene's marker registers the view unless the params name a tag.
+TEST(ViewConfig, TheScenesMarkerRegistersItUnlessTheParamsSay) {
+  MarkerSpec marker;
+  marker.id = 4;
+  EXPECT_EQ(view_config(params("objects: []\n"), 30, marker).tag_id, 4);
+  EXPECT_EQ(view_config(params("tag_id: 2\n"), 30, marker).tag_id, 2);
+  EXPECT_EQ(view_config(params("objects: []\n"), 30, {}).tag_id, 0);
+}
+
 TEST(ViewConfig, MistakesAreNamedAtTheirPlace) {
   const auto error = [](const std::string& text) {
     return tests::message_of<ConfigError>([&] { view_config(params(text), 30); });

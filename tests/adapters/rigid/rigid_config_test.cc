@@ -11,6 +11,17 @@ using tests::message_of;
 
 Config params(const std::string& text) { return Config::parse(text, "r.yaml", "params"); }
 
+// The scene's marker is the plane the bodies stand on: its friction is
+// the floor's unless the params give floor_friction.
+TEST(RigidConfig, TheMarkersFrictionIsTheFloorsUnlessTheParamsSay) {
+  MarkerSpec marker;
+  marker.friction = 0.8;
+  EXPECT_EQ(rigid_config(params("bodies: [{name: b}]\n"), marker).spec.floor.friction, 0.8);
+  EXPECT_EQ(rigid_config(params("floor_friction: 0.1\nbodies: [{name: b}]\n"), marker).spec.floor.friction, 0.1);
+  EXPECT_EQ(rigid_config(params("bodies: [{name: b}]\n"), {}).spec.floor.friction,
+            models::rigid::WorldSpec().floor.friction);
+}
+
 TEST(RigidConfig, ReadsTheWorldAndItsBodies) {
   const RigidConfig r = rigid_config(params(
       "device: left\nbackend: crosscheck\nground: off\npair_friction: 0.7\nfloor_restitution: 0.1\ntip_radius: 0.003\n"

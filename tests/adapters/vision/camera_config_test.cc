@@ -30,6 +30,21 @@ TEST(CameraConfig, ASyntheticCameraHasItsOwnIntrinsicsTruthAndScene) {
   EXPECT_EQ(c.scene.size(), 8u);  // the sheet's corners and half its edge above them
 }
 
+// The scene's marker is the tag sought and shown, unless the params say.
+TEST(CameraConfig, TheScenesMarkerIsTheTagUnlessTheParamsSay) {
+  MarkerSpec marker;
+  marker.family = "tag16h5", marker.id = 3, marker.size = 0.03;
+  const CameraConfig c = camera_config(params("width: 320\nheight: 240\n"), 30, marker);
+  EXPECT_EQ(c.tracker.detector.family, "tag16h5");
+  EXPECT_EQ(c.tracker.tag_size, 0.03);
+  EXPECT_EQ(c.synthetic->camera().marker().id, 3);
+  const CameraConfig own =
+      camera_config(params("width: 320\nheight: 240\nfamily: tag25h9\ntag_size: 0.04\ntag_id: 5\n"), 30, marker);
+  EXPECT_EQ(own.tracker.detector.family, "tag25h9");
+  EXPECT_EQ(own.tracker.tag_size, 0.04);
+  EXPECT_EQ(own.synthetic->camera().marker().id, 5);
+}
+
 TEST(CameraConfig, FileSourcesNeedTheirFilesAndIntrinsics) {
   tests::TempDir dir;
   const std::string f = dir.file("c.yaml");
