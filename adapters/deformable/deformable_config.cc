@@ -32,15 +32,15 @@ ObjectConfig object(const Config& o, double servo_dt, double tip_radius) {
     s.volume = number(o, "volume", s.volume, limits::kVolume);
     s.behavior_model =
         models::deformable::parse_behavior_model(o.text("behavior", "springs", {"springs", "fem", "modal"}));
-    s.fem.young = o.number("young", s.fem.young, 10, 1e8);
-    s.fem.poisson = o.number("poisson", s.fem.poisson, 0, 0.49);
-    s.fem.density = o.number("density", s.fem.density, 1, 20000);
+    s.fem.young = number(o, "young", s.fem.young, limits::kYoung);
+    s.fem.poisson = number(o, "poisson", s.fem.poisson, limits::kPoisson);
+    s.fem.density = number(o, "density", s.fem.density, limits::kDensity);
     s.modes = o.whole("modes", s.modes, 1, models::fem::Modal::kMaxDofs);
     if (o.has("modes") && s.behavior_model != models::deformable::BehaviorModel::modal)
       o.fail("modes", "modes counts the modal behavior model's modes (behavior: modal)");
     s.map = models::deformable::parse_visual_map(o.text("map", "mvc_sparse", {"mvc", "mvc_sparse", "trilinear"}));
     s.keep = number(o, "keep", s.keep, limits::kKeep);
-    s.behavior.dt = 1 / o.number("behavior_rate", 1000, 10, 10000);
+    s.behavior.dt = 1 / number(o, "behavior_rate", 1 / s.behavior.dt, limits::kBehaviorRate);
     s.visual_subdivisions = whole(o, "visual_subdivisions", s.visual_subdivisions, limits::kVisualSubdivisions);
     s.visual_exponent = number(o, "rounding", s.visual_exponent, limits::kVisualExponent);
     s.friction = device::friction_config(o);
@@ -87,7 +87,7 @@ DeformableConfig deformable_config(const Config& p, double servo_dt) {
   DeformableConfig d;
   d.device = p.string("device", d.device);
   d.visual_rate_hz = p.number("visual_rate", d.visual_rate_hz, 1, 240);
-  const double tip_radius = p.number("tip_radius", 0, 0, 0.01);
+  const double tip_radius = p.number("tip_radius", 0, 0, device::kMaxTipRadius);
   for (const Config& o : p.list("objects")) {
     ObjectConfig c = object(o, servo_dt, tip_radius);
     for (const ObjectConfig& other : d.objects)

@@ -61,6 +61,10 @@ void check(const HybridSpec& s) {
   within("visual_subdivisions", s.visual_subdivisions, limits::kVisualSubdivisions);
   within("visual_exponent", s.visual_exponent, limits::kVisualExponent);
   within("keep", s.keep, limits::kKeep);
+  within("young", s.fem.young, limits::kYoung);
+  within("poisson", s.fem.poisson, limits::kPoisson);
+  within("density", s.fem.density, limits::kDensity);
+  within("behavior rate (1 / behavior.dt)", 1 / s.behavior.dt, limits::kBehaviorRate);
   check_hybrid(s.visual_tolerance >= 0 && s.visual_tolerance < s.size, "visual_tolerance must be in [0, size)");
   check_hybrid(s.tip_radius >= 0 && s.tip_radius < 0.5 * s.size, "tip_radius must be in [0, size / 2)");
   check_hybrid(s.shape.triangles.empty() || s.map != VisualMap::trilinear, "a shape is mapped by mvc or mvc_sparse");

@@ -26,6 +26,10 @@ inline constexpr Range kVolume{0, 1000};             // the volume floors' bulk 
 inline constexpr Range kVisualSubdivisions{1, 300};  // the cube's visual mesh: squares per edge
 inline constexpr Range kVisualExponent{2, 64};       // the rounding of the visual cube's edges
 inline constexpr Range kKeep{0.5, 1};                // mvc_sparse: share of each map row's weight kept
+inline constexpr Range kYoung{10, 1e8};              // Pa: the fem and modal behavior models' Young's modulus
+inline constexpr Range kPoisson{0, 0.49};            // their Poisson's ratio, short of the locking of linear tetrahedra
+inline constexpr Range kDensity{1, 20000};           // kg/m^3
+inline constexpr Range kBehaviorRate{10, 10000};     // Hz: the behavior model's steps per second
 
 // The elastic sheet and semi-sphere (elastic_surface.h).
 inline constexpr Range kResolution{3, 200};           // a sheet's masses per edge, a dome's rings
