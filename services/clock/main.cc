@@ -1,6 +1,7 @@
 // hcosim_clock: the lockstep master. Publishes ClockTick for each base step
 // and waits for every follower's StepDone before the next, so all services
-// advance together whatever their speed. Protocol: docs/cosimulation.md.
+// advance together whatever their speed. Protocol: docs/cosimulation.md;
+// whom it waits for and how long: services/clock/roster.h.
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -8,25 +9,13 @@
 #include <set>
 #include <thread>
 
+#include "services/clock/roster.h"
 #include "services/runtime/service.h"
 
 using namespace hcosim;
 using namespace hcosim::services::runtime;
 
 namespace {
-
-constexpr double kJoinTimeoutS = 30.0;
-// A follower that says it is starting (building its model, which under a
-// sanitizer or for a large mesh takes more than kJoinTimeoutS) is waited
-// for this long instead, as `hcosim up` waits for it.
-constexpr double kStartTimeoutS = 120.0;
-constexpr double kStepTimeoutS = 10.0;
-
-std::string names(const std::set<std::string>& s) {
-  std::string out;
-  for (const auto& n : s) out += (out.empty() ? "" : ", ") + n;
-  return out;
-}
 
 int run_clock(Options options) {
   std::set<std::string> followers;
@@ -37,14 +26,14 @@ int run_clock(Options options) {
   Service svc(options);
   Writer<ClockTick> ticks(svc.participant());
   Reader<StepDone> done = svc.reader<StepDone>();
-  const std::size_t n = followers.size();
+  services::clock::Roster roster(followers, mono_ns());
+  const int n = int(followers.size());
 
   // Start only when every follower can hear tick 0 and answer it: the
   // tick writer has matched a reader in each follower's own participant,
   // known from its status (a count would take a recorder's reader of
   // ClockTick for a follower's, and tick 0 would never reach that one).
   Reader<ServiceStatus> status = svc.reader<ServiceStatus>();
-  std::set<std::string> starting;  // followers whose latest status says "starting"
   std::map<std::string, eprosima::fastrtps::rtps::InstanceHandle_t> endpoint_of;  // a follower's status writer
   const auto unheard = [&] {  // followers the tick writer does not reach yet
     std::set<std::string> out;
@@ -52,24 +41,15 @@ int run_clock(Options options) {
       if (!endpoint_of.count(f) || !ticks.reaches(endpoint_of.at(f))) out.insert(f);
     return out;
   };
-  const std::int64_t join_start = mono_ns();
-  while (!unheard().empty() || done.matched() < int(n)) {
+  while (!unheard().empty() || done.matched() < n) {
     if (stop_requested()) return 0;
     status.take([&](const ServiceStatus& s) {
       const std::string name = s.service().to_string();
       if (followers.count(name)) endpoint_of[name] = status.current_writer();
-      if (s.state().to_string() == "starting")
-        starting.insert(name);
-      else
-        starting.erase(name);
+      roster.status(name, s.state().to_string() == "starting");
     });
-    const double waited = (mono_ns() - join_start) * 1e-9;
-    const double limit = starting.empty() ? kJoinTimeoutS : kStartTimeoutS;
-    if (waited > limit) {
-      const std::set<std::string> deaf = unheard();
-      std::cerr << "clock: after " << limit << " s only " << done.matched() << " of " << n << " followers joined ("
-                << names(followers) << ")" << (deaf.empty() ? "" : "; not yet reading ticks: " + names(deaf))
-                << (starting.empty() ? "" : "; still starting: " + names(starting)) << "\n";
+    if (const std::string why = roster.join_failure(mono_ns(), done.matched(), unheard()); !why.empty()) {
+      std::cerr << "clock: " << why << "\n";
       return 1;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
@@ -89,24 +69,19 @@ int run_clock(Options options) {
     tick.step_ns(step_ns);
     tick.last(is_last);
     ticks.write(tick);
-
-    std::set<std::string> waiting = followers;
-    const std::int64_t deadline = mono_ns() + std::int64_t(kStepTimeoutS * 1e9);
-    while (!waiting.empty()) {
+    roster.tick(k, mono_ns());
+    while (!roster.complete()) {
       if (stop_requested()) {
         std::printf("clock: stopped at step %llu\n", static_cast<unsigned long long>(k));
         svc.settle();
         return 0;
       }
-      if (mono_ns() > deadline) {
-        std::cerr << "clock: step " << k << ": no StepDone from " << names(waiting) << " after " << kStepTimeoutS
-                  << " s\n";
+      if (const std::string why = roster.step_failure(mono_ns()); !why.empty()) {
+        std::cerr << "clock: " << why << "\n";
         return 1;
       }
       if (done.wait(std::chrono::milliseconds(100)))
-        done.take([&](const StepDone& d) {
-          if (d.step() == k) waiting.erase(d.service().to_string());
-        });
+        done.take([&](const StepDone& d) { roster.done(d.step(), d.service().to_string()); });
     }
     svc.record_step(0.0, (mono_ns() - t0) * 1e-3, false);
     svc.heartbeat(tick.sim_time_ns(), k);
@@ -114,7 +89,7 @@ int run_clock(Options options) {
   }
   const double wall_s = (mono_ns() - wall_start) * 1e-9;
   const double sim_s = double(k + 1) * options.step_s;
-  std::printf("clock: %llu steps, %.3f s simulated in %.3f s wall (real-time factor %.2f), %zu followers\n",
+  std::printf("clock: %llu steps, %.3f s simulated in %.3f s wall (real-time factor %.2f), %d followers\n",
               static_cast<unsigned long long>(k + 1), sim_s, wall_s, sim_s / wall_s, n);
   svc.settle();
   return 0;
