@@ -4,7 +4,7 @@
 //
 // frame rows, params `scene` and `resolution`:
 //   one_mesh     one hybrid object's visual mesh (rounded box, 5402
-//                vertices, 10800 triangles: the 10k-triangle case);
+//                vertices, 10800 triangles: a 10k-triangle mesh);
 //   default      every object of deploy/default.yaml at rest, the stylus
 //                and a force arrow (two 10800-triangle meshes, the sheet,
 //                the semi-sphere, a cube and a sphere);

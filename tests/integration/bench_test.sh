@@ -6,10 +6,10 @@
 # What this shared machine can carry is reported, not asserted: every
 # latency, bare Fast DDS's losses, and losses at 10^5 vertices (2.4 MB
 # samples at 60 Hz to 3 readers: with KEEP_LAST 16 a reader more than
-# 266 ms behind loses the oldest, docs/topics.md), which both impls showed
-# on 2026-12-01. Counted samples follow a warm-up (startup_ms): CI lost 4
-# of 1440 1000-vertex samples on 2026-12-01, and here both impls lost
-# theirs in a reader's first 0.4 s. Between hosts made of network
+# 266 ms behind loses the oldest, docs/topics.md), which both impls may
+# show on a loaded machine. Counted samples follow a warm-up (startup_ms):
+# a reader's first moments, while the processes start, lose the most.
+# Between hosts made of network
 # namespaces (where this machine can make them), 10^5-vertex meshes to a
 # reader on each of two other hosts over UDP must arrive, none lost.
 source "$(dirname "$0")/lib.sh"

@@ -26,7 +26,7 @@ services:
 YAML
 # The echoes and the recorder listen until the deployment has ended
 # (stop_echoes), not to a deadline that a slow start on a loaded machine can
-# reach first (CI's run of 61bd21a: a 6 s recording cut off the last tenth).
+# reach first, cutting off the run's end.
 start state "$BIN/hcosim" echo HapticState --count 0
 start status "$BIN/hcosim" echo ServiceStatus --count 0
 start record "$BIN/hcosim" record --device omni --duration 0 --out "$WORK/omni.csv"

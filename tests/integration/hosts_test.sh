@@ -91,9 +91,9 @@ code=$?
 [ $code -ne 0 ] || fail "the device's up exited 0 with the clock gone"
 waited=$(($(date +%s) - t0))
 # The follower says the clock is gone, or, where the clock was killed
-# between sending a step's tick to this host and to the sim's (CI's run on
-# 2026-12-07), that the objects on the sim's host never answered that step,
-# whose 10 s limit comes before the clock's 20 s: either names a peer lost.
+# between sending a step's tick to this host and to the sim's, that the
+# objects on the sim's host never answered that step, whose 10 s limit
+# comes before the clock's 20 s: either names a peer lost.
 grep -qE "omni: (no tick from the clock for 20 s after step [0-9]*; the clock stopped or its host is gone|step [0-9]*: the sources of its group did not answer in 10 s)" \
   "$WORK/lost_device/logs/omni.log" || fail "the follower did not say it lost the clock: $(tail -n 3 "$WORK/lost_device/logs/omni.log")"
 grep -q "service 'omni' ended (exit status 1)" "$WORK/lost_device.log" ||

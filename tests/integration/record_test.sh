@@ -35,8 +35,7 @@ services:
   - {name: wall, kind: test_probe, rate: 200, params: {role: wall}}
 YAML
 # It records until the deployment has ended, not for a fixed time that a
-# slow start can use up (integration.haptic's recording lost its last
-# tenth so in CI).
+# slow start can use up, cutting off the run's end.
 start rec "$BIN/hcosim" record "$WORK/probe.rec" --topics ForceFeedback,ServiceStatus --duration 0
 limit 30 "$BIN/hcosim" up "$WORK/up.yaml" --out "$WORK/out2" >"$WORK/up2.log" 2>&1 || fail "up exited $?"
 stop_echoes "${PIDS[0]}"

@@ -367,11 +367,11 @@ TEST(HybridShape, AnOrganIsTouchedOnItsDrawnSurfaceAndComesBack) {
 // it and off its middle, on both sides, at its middle and near its ends.
 // Under the force felt, the drawn surface follows the stylus's tip within
 // 15 % of the tip's depth at every point: follow() brings the force to
-// the one under which the behavior model sinks as deep as the stylus
-// (0.91 to 1.01 here; the tree before it, with the force gain alone, 0.65
-// and 0.68 at two points). And the force felt along the stylus's press is
-// the behavior model's static force for that press within 15 % (0.995 to
-// 1.061 here; without follow(), 0.63 to 1.69, five points out).
+// the one under which the behavior model sinks as deep as the stylus (a
+// force gain alone, fitted at rest, leaves the surface short of the tip
+// where the organ is thin or stiff). And the force felt along the
+// stylus's press is the behavior model's static force for that press
+// within 15 %.
 TEST(HybridShapeSlow, WhatIsSeenFollowsWhatIsFeltAllOverAnOrgan) {
   HybridSpec s = loaf_spec();
   s.stiff_ratio = 4;

@@ -1,5 +1,5 @@
-// Tag poses against the synthetic camera's ground truth: the issue's
-// accuracy at hard angles, head-on on the optical axis, the IPPE ambiguity
+// Tag poses against the synthetic camera's ground truth: the accuracy
+// goal (docs/tracking.md) at hard angles, head-on on the optical axis, the IPPE ambiguity
 // settled by the prior, and lens distortion.
 #include <cmath>
 
