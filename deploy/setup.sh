@@ -12,6 +12,7 @@ set -euo pipefail
 # libzstd-dev, liblz4-dev, zlib1g-dev: MCAP recordings' chunks and CRCs.
 # libwebsocketpp-dev, libasio-dev: the live Foxglove bridge's WebSocket server.
 # nodejs, npm (only where no node is installed): the MCAP test clients.
+# calculix-ccx: CalculiX, the independent FEM reference (adapters/reference).
 packages=(
   build-essential cmake ninja-build ccache pkg-config
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
@@ -20,6 +21,7 @@ packages=(
   libbenchmark-dev
   cyclonedds-dev cyclonedds-tools jq clang libclang-rt-14-dev
   openssl tshark clang-format-14 libzstd-dev liblz4-dev zlib1g-dev libwebsocketpp-dev libasio-dev
+  calculix-ccx
 )
 command -v npm >/dev/null || packages+=(nodejs npm)
 
