@@ -144,6 +144,13 @@ std::string input_file(const Job& job) {
     need(f.dof >= 1 && f.dof <= 3 && std::isfinite(f.value), "a fix of set " + f.set + " is not dof 1..3 or finite");
     out << f.set << ", " << f.dof << ", " << f.dof << ", " << f.value << "\n";
   }
+  if (!job.loads.empty()) out << "*CLOAD\n";
+  for (const Load& l : job.loads) {
+    need(job.sets.count(l.set), "a load names set " + l.set + ", which the job lacks");
+    need(l.dof >= 1 && l.dof <= 3 && std::isfinite(l.value), "a load on set " + l.set + " is not dof 1..3 or finite");
+    const std::vector<int>& ids = job.sets.at(l.set);
+    for (int i : ids) out << i + 1 << ", " << l.dof << ", " << l.value / double(ids.size()) << "\n";
+  }
   for (const std::string& s : job.reactions) {
     need(job.sets.count(s), "a reaction names set " + s + ", which the job lacks");
     out << "*NODE PRINT, NSET=" << s << ", TOTALS=ONLY\nRF\n";

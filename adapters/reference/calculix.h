@@ -32,6 +32,16 @@ struct Fix {
   double value = 0;  // m
 };
 
+// A force along `dof` (1, 2 or 3) whose total is `value` (N), its
+// direction fixed (a dead load). The set's nodes share it equally, not as
+// a consistent load of its faces: the resultant is right, its spread over
+// the face is not, which matters only near that face.
+struct Load {
+  std::string set;
+  int dof = 3;
+  double value = 0;  // N
+};
+
 struct Job {
   std::string element = "C3D20";                 // C3D8 or C3D20 (quadratic)
   std::vector<Eigen::Vector3d> nodes;            // m
@@ -40,6 +50,7 @@ struct Job {
   Material material;
   bool nlgeom = true;  // large deformation
   std::vector<Fix> fixes;
+  std::vector<Load> loads;
   std::vector<std::string> reactions;  // sets whose total reaction force is read back
 };
 
