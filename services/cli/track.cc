@@ -16,6 +16,7 @@
 
 #include "adapters/config.h"
 #include "adapters/json.h"
+#include "adapters/scene.h"
 #include "adapters/vision/calibration.h"
 #include "adapters/vision/source.h"
 #include "models/vision/tracker.h"
@@ -254,11 +255,13 @@ void add_track(CLI::App& app, Command& chosen) {
   c->add_option("--tag-size", o->tracker.tag_size, "the tag's black square side, m")
       ->option_text("M")
       ->required()
-      ->check(runtime::within(1e-4, 10));
+      ->check(runtime::within(adapters::tag::kMinSize, adapters::tag::kMaxSize));
   c->add_option("--out", o->out, "the poses to write, JSON lines")->option_text("POSES.jsonl")->required();
   c->add_option("--truth", o->truth, "known poses to measure the errors against (synth's truth.jsonl)")
       ->option_text("TRUTH.jsonl");
-  c->add_option("--family", d.family, "tag family (default " + d.family + ")")->option_text("F");
+  c->add_option("--family", d.family, "tag family (default " + d.family + ")")
+      ->option_text("F")
+      ->check(CLI::IsMember(adapters::tag::kFamilies).description(""));
   c->add_option("--decimate", d.quad_decimate, "detect on an image this many times smaller (default 1.5)")
       ->option_text("D")
       ->check(runtime::within(1, 16));
@@ -279,11 +282,15 @@ void add_synth(CLI::App& app, Command& chosen) {
   c->add_option("--condition", o->condition, "image condition (default clean)")
       ->option_text("C")
       ->check(CLI::IsMember({"clean", "noisy", "blurred"}).description(""));
-  c->add_option("--family", o->marker.family, "tag family (default " + o->marker.family + ")")->option_text("F");
-  c->add_option("--tag-id", o->marker.id, "tag id (default 0)")->option_text("ID")->check(CLI::Range(0, 1000000));
+  c->add_option("--family", o->marker.family, "tag family (default " + o->marker.family + ")")
+      ->option_text("F")
+      ->check(CLI::IsMember(adapters::tag::kFamilies).description(""));
+  c->add_option("--tag-id", o->marker.id, "tag id (default 0)")
+      ->option_text("ID")
+      ->check(CLI::Range(0, adapters::tag::kMaxId));
   c->add_option("--tag-size", o->marker.tag_size, "tag size, m (default 0.05)")
       ->option_text("M")
-      ->check(runtime::within(1e-4, 10));
+      ->check(runtime::within(adapters::tag::kMinSize, adapters::tag::kMaxSize));
   c->add_flag("--video", o->video, "also write video.avi (Motion JPEG)");
   c->callback([&chosen, o] { chosen = [o] { return synth(*o); }; });
 }
