@@ -45,8 +45,8 @@ RigidConfig rigid_config(const Config& p, const MarkerSpec& marker) {
   models::rigid::Material floor = r.spec.floor;
   floor.friction = marker.friction.value_or(floor.friction);
   r.spec.floor = material(p, "floor_", floor);
-  r.spec.tip_radius =
-      p.number("tip_radius", 0, 0, device::kMaxTipRadius);  // a point unless told (the device's, by hcosim up)
+  // A point unless told (the device's, by hcosim up).
+  r.spec.tip_radius = p.number("tip_radius", 0, 0, device::kMaxTipRadius);
   r.coupling.stiffness = p.number("stiffness", r.coupling.stiffness, 1, 1e4);
   r.coupling.damping = p.number("damping", r.coupling.damping, 0, 100);
   r.coupling.max_force = p.number("max_force", r.coupling.max_force, 0.1, 100);

@@ -29,8 +29,9 @@ struct CameraConfig {
 
 // `rate_hz`: the service's rate, the synthetic and V4L2 cameras' frame
 // rate. `marker`: the scene's, whose family, size and id are the tag's
-// unless the params give `family`, `tag_size` and `tag_id`. Throws adapters::ConfigError at FILE:LINE:COL for an
-// unknown key, a value out of range, or a source without its file.
+// unless the params give `family`, `tag_size` and `tag_id`. Throws
+// adapters::ConfigError at FILE:LINE:COL for an unknown key, a value out
+// of range, or a source without its file.
 CameraConfig camera_config(const Config& params, double rate_hz, const MarkerSpec& marker = {});
 
 }  // namespace hcosim::adapters::vision
