@@ -163,6 +163,7 @@ bool ccx_available() { return std::system("command -v ccx >/dev/null 2>&1") == 0
 
 Result run(const Job& job, const std::string& dir) {
   namespace fs = std::filesystem;
+  need(dir.find('\'') == std::string::npos, "the folder '" + dir + "' has a quote, which the shell would split");
   fs::create_directories(dir);
   const fs::path inp = fs::path(dir) / "job.inp", log = fs::path(dir) / "job.log", dat = fs::path(dir) / "job.dat";
   std::ofstream(inp) << input_file(job);
@@ -185,18 +186,19 @@ Result run(const Job& job, const std::string& dir) {
   const std::regex total(R"(\s*total force \(fx,fy,fz\) for set (\S+) and time.*)");
   const std::regex displacements(R"(\s*displacements \(vx,vy,vz\) for set (\S+) and time.*)");
   std::ifstream in(dat);
-  std::string line, reading;  // "" or the set whose total is read, or "U"
+  // "", the set whose total is read, or "*U" (no set's name: they are A-Z, 0-9, _).
+  std::string line, reading;
   for (std::smatch m; std::getline(in, line);) {
     if (std::regex_match(line, m, total)) {
       reading = m[1];
       continue;
     }
     if (std::regex_match(line, m, displacements)) {
-      reading = "U";
+      reading = "*U";
       continue;
     }
     std::istringstream row(line);
-    if (reading == "U") {
+    if (reading == "*U") {
       int id;
       Eigen::Vector3d u;
       if (row >> id >> u.x() >> u.y() >> u.z() && id >= 1 && id <= int(job.nodes.size())) r.displacement[id - 1] = u;

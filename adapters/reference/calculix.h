@@ -75,7 +75,8 @@ bool ccx_available();
 
 // Writes the job to `dir`/job.inp, runs ccx there and reads job.dat.
 // Throws std::runtime_error, with the end of ccx's output, when ccx is
-// missing, fails, or does not converge.
+// missing, fails, or does not converge; std::invalid_argument for a bad
+// job (input_file) or a folder whose name holds a quote.
 Result run(const Job& job, const std::string& dir);
 
 }  // namespace hcosim::adapters::reference

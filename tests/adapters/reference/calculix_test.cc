@@ -63,6 +63,7 @@ TEST(CalculiX, ABadJobIsNamed) {
   job = compressed("C3D8", {1, 1, 1}, 0.01, 0.9, {});
   job.fixes.push_back({"TOP", 3, 0});
   EXPECT_NE(tests::message_of<std::invalid_argument>([&] { input_file(job); }).find("set TOP"), std::string::npos);
+  EXPECT_NE(tests::message_of<std::invalid_argument>([] { run(Job{}, "/tmp/it's"); }).find("quote"), std::string::npos);
 }
 
 // A homogeneous deformation is exact on any mesh: CalculiX must give the
